@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# The project's two commands (see README.md):
+#   ./build.sh run  [TABLE_RADIUS CIRCLE_RADIUS N] [billiard options]   build, then run `billiard`
+#   ./build.sh test [ctest options]                                     build, then run every test
+# Both first install the Debian packages the build needs (only the missing ones), then configure
+# and build with CMake. Set BILLIARD_PRESET to use another preset from CMakePresets.json.
+set -euo pipefail
+cd "$(dirname "$0")"
+
+usage() {
+  sed -n '2,6p' "$0" | sed 's/^# \{0,1\}//'
+}
+
+# Debian packages, by what needs them. Names are apt-get names: there is no PyPI here.
+packages=(
+  cmake ninja-build g++          # the build
+  libeigen3-dev                  # vectors and matrices
+  libgtest-dev                   # the graded test suites
+)
+
+install_missing_packages() {
+  local missing=() p
+  for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q '^install ok installed$' || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  local sudo=()
+  if [ "$(id -u)" -ne 0 ]; then
+    if command -v sudo >/dev/null; then sudo=(sudo); else
+      echo "build.sh: missing Debian packages: ${missing[*]}; install them as root with: apt-get install ${missing[*]}" >&2
+      exit 2
+    fi
+  fi
+  echo "build.sh: installing Debian packages: ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo[@]}" apt-get update -qq
+  "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+}
+
+build() {
+  local preset=${BILLIARD_PRESET:-release}
+  cmake --preset "$preset" >/dev/null
+  cmake --build --preset "$preset"
+}
+
+command=${1:-}
+[ $# -gt 0 ] && shift
+case "$command" in
+  run)
+    install_missing_packages
+    build
+    dir=build/${BILLIARD_PRESET:-release}
+    if [ $# -eq 0 ]; then set -- 10 1 10; fi
+    exec "$dir/billiard" --output build/output "$@"
+    ;;
+  test)
+    install_missing_packages
+    build
+    exec ctest --preset "${BILLIARD_PRESET:-release}" "$@"
+    ;;
+  -h|--help|help)
+    usage
+    ;;
+  *)
+    echo "build.sh: unknown command '${command}'; use './build.sh run' or './build.sh test' (see ./build.sh --help)" >&2
+    exit 2
+    ;;
+esac

@@ -1,0 +1,2 @@
+#include "billiard/course.hpp"
+int main() { return 0; }

@@ -1,0 +1,69 @@
+#include "billiard/argument_checks.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace billiard::checks {
+namespace {
+
+template <typename... Parts>
+[[noreturn]] void fail(const Parts&... parts) {
+  std::ostringstream message;
+  message.precision(10);
+  (message << ... << parts);
+  throw std::invalid_argument(message.str());
+}
+
+void positive_finite(double value, std::string_view name) {
+  if (!(std::isfinite(value) && value > 0)) fail(name, " = ", value, ": must be a positive, finite number");
+}
+
+}  // namespace
+
+void count(int n) {
+  if (n < 0) fail("n = ", n, ": the number of circles cannot be negative");
+}
+
+void table(double table_radius, double circle_radius, int n) {
+  positive_finite(table_radius, "table_radius");
+  positive_finite(circle_radius, "circle_radius");
+  count(n);
+  if (n > 0 && circle_radius >= table_radius) {
+    fail("circle_radius = ", circle_radius, ": must be smaller than table_radius = ", table_radius,
+         " for a circle to fit on the table");
+  }
+}
+
+void rows(const Eigen::Matrix<double, Eigen::Dynamic, 2>& rows, int n, std::string_view name) {
+  count(n);
+  if (rows.rows() != n) fail(name, " has ", rows.rows(), " rows: expected one row per circle, n = ", n);
+  for (Eigen::Index i = 0; i < rows.rows(); ++i) {
+    if (!rows.row(i).allFinite()) {
+      fail(name, " row ", i, " = (", rows(i, 0), ", ", rows(i, 1), "): must be finite numbers");
+    }
+  }
+}
+
+void placement(double table_radius, double circle_radius, const Coordinates& coordinates) {
+  const double tolerance = 1e-9 * table_radius;
+  const double reach = table_radius - circle_radius + tolerance;
+  const double diameter = 2 * circle_radius - tolerance;
+  for (Eigen::Index i = 0; i < coordinates.rows(); ++i) {
+    if (coordinates.row(i).squaredNorm() > reach * reach) {
+      fail("coordinates row ", i, " = (", coordinates(i, 0), ", ", coordinates(i, 1),
+           "): circle sticks out of the table (its centre must be within table_radius - circle_radius = ",
+           table_radius - circle_radius, " of the origin)");
+    }
+    for (Eigen::Index j = i + 1; j < coordinates.rows(); ++j) {
+      if ((coordinates.row(i) - coordinates.row(j)).squaredNorm() < diameter * diameter) {
+        fail("coordinates rows ", i, " and ", j, ": circles overlap (centres ",
+             (coordinates.row(i) - coordinates.row(j)).norm(), " apart, less than 2 circle_radius = ",
+             2 * circle_radius, ")");
+      }
+    }
+  }
+}
+
+}  // namespace billiard::checks
