@@ -172,8 +172,9 @@ Coordinates init_billiard(double table_radius, double circle_radius, int n, Rng&
     std::ostringstream message;
     message.precision(4);
     message << "n = " << n << ": " << n << " circles of radius " << circle_radius
-            << " cannot fit on a table of radius " << table_radius << " (they would cover " << area_fraction
-            << " of it; no arrangement covers more than " << kDensestPacking << "): use fewer or smaller circles";
+            << " cannot fit on a table of radius " << table_radius << ": their area is " << area_fraction
+            << " times the table's, and no arrangement covers more than " << kDensestPacking
+            << " of it; use fewer or smaller circles";
     throw std::invalid_argument(message.str());
   }
 
