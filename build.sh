@@ -3,12 +3,16 @@
 #   ./build.sh run  [TABLE_RADIUS CIRCLE_RADIUS N] [billiard options]   build, then run `billiard`
 #   ./build.sh test [ctest options]                                     build, then run every test
 # Both first install the Debian packages the build needs (only the missing ones), then configure
-# and build with CMake. Set BILLIARD_PRESET to use another preset from CMakePresets.json.
+# and build with CMake. Set BILLIARD_PRESET to use another preset from CMakePresets.json
+# (default: "release", the reference solutions, where solutions/ exists; else "tasks").
 set -euo pipefail
 cd "$(dirname "$0")"
+if [ -z "${BILLIARD_PRESET:-}" ]; then
+  if [ -d solutions ]; then BILLIARD_PRESET=release; else BILLIARD_PRESET=tasks; fi
+fi
 
 usage() {
-  sed -n '2,6p' "$0" | sed 's/^# \{0,1\}//'
+  sed -n '2,7p' "$0" | sed 's/^# \{0,1\}//'
 }
 
 # Debian packages, by what needs them. Names are apt-get names: there is no PyPI here.
@@ -38,9 +42,8 @@ install_missing_packages() {
 }
 
 build() {
-  local preset=${BILLIARD_PRESET:-release}
-  cmake --preset "$preset" >/dev/null
-  cmake --build --preset "$preset"
+  cmake --preset "$BILLIARD_PRESET" >/dev/null
+  cmake --build --preset "$BILLIARD_PRESET"
 }
 
 command=${1:-}
@@ -49,14 +52,14 @@ case "$command" in
   run)
     install_missing_packages
     build
-    dir=build/${BILLIARD_PRESET:-release}
+    dir=build/$BILLIARD_PRESET
     if [ $# -eq 0 ]; then set -- 10 1 10; fi
     exec "$dir/billiard" --output build/output "$@"
     ;;
   test)
     install_missing_packages
     build
-    exec ctest --preset "${BILLIARD_PRESET:-release}" "$@"
+    exec ctest --preset "$BILLIARD_PRESET" "$@"
     ;;
   -h|--help|help)
     usage
