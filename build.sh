@@ -41,9 +41,10 @@ install_missing_packages() {
   "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 }
 
+# build [TARGET...]: configure (first time) and build the given targets, or everything.
 build() {
   cmake --preset "$BILLIARD_PRESET" >/dev/null
-  cmake --build --preset "$BILLIARD_PRESET"
+  cmake --build --preset "$BILLIARD_PRESET" ${1:+--target "$@"}
 }
 
 command=${1:-}
@@ -51,7 +52,7 @@ command=${1:-}
 case "$command" in
   run)
     install_missing_packages
-    build
+    build billiard
     dir=build/$BILLIARD_PRESET
     if [ $# -eq 0 ]; then set -- 10 1 10; fi
     exec "$dir/billiard" --output build/output "$@"
