@@ -36,7 +36,7 @@ namespace {
 // of the area; no arrangement inside a bounded table can do better.
 constexpr double kDensestPacking = 0.9068996821171089;
 constexpr int kTriesPerCircle = 2000;  // random sequential addition budget, per circle
-constexpr int kShakeSweeps = 100;      // Monte Carlo moves per circle
+constexpr int kShakeSweeps = 200;      // Monte Carlo moves per circle
 
 // Square cells of side >= 2a covering [-reach, reach]^2; each cell lists its circles.
 class Grid {
@@ -139,7 +139,9 @@ bool place_on_lattice(double reach, double diameter, Grid& grid, Coordinates& ce
   return true;
 }
 
-// Monte Carlo shaking with a step size adapted towards about half of the moves accepted.
+// Monte Carlo shaking. During the first half of the sweeps the step size is tuned towards
+// about half of the moves accepted; then it is frozen. (A step size that keeps changing with
+// the state would break detailed balance and favour some tables, e.g. circles near the wall.)
 void shake(double reach, double circle_radius, Grid& grid, Coordinates& centres, Rng& rng) {
   const int n = static_cast<int>(centres.rows());
   if (n == 0) return;
@@ -158,8 +160,7 @@ void shake(double reach, double circle_radius, Grid& grid, Coordinates& centres,
       grid.insert(i, proposal);
       ++accepted;
     }
-    step *= (2 * accepted > n) ? 1.2 : 0.8;
-    step = std::min(step, 2 * reach);
+    if (sweep < kShakeSweeps / 2) step = std::min(step * ((2 * accepted > n) ? 1.2 : 0.8), 2 * reach);
   }
 }
 
