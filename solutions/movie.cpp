@@ -59,6 +59,8 @@ void movie(double table_radius, double circle_radius, int n, Coordinates& coordi
   }
   const double seconds = std::max(1.0, 4.0 * total_time * speed / (2 * table_radius));
 
+  // The picture is written as in visualize_table, plus the animations. (Each task's file
+  // stands on its own, so that each task can be graded with the others' reference code.)
   std::ofstream svg(svg_file);
   if (!svg) throw std::runtime_error("svg_file = " + svg_file.string() + ": cannot open it for writing");
   svg.precision(10);
