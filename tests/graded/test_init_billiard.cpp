@@ -2,6 +2,7 @@
 // non-overlapping circles fully inside the table. The tests check properties and statistics
 // that every correct solution has, never particular random numbers.
 #include "support/fixtures.hpp"
+#include "support/graded.hpp"
 #include "support/student_messages.hpp"
 
 #include <gtest/gtest.h>
@@ -96,7 +97,7 @@ bool check_no_overlap(const Coordinates& c, const Table& t, std::uint64_t seed) 
 
 // --- Shape -----------------------------------------------------------------------------------
 
-TEST(InitBilliard, ReturnsOneFiniteRowPerCircle) {
+GRADED_TEST(InitBilliard, ReturnsOneFiniteRowPerCircle, 2, visible) {
   for (const Table& t : kTables) {
     for (const std::uint64_t seed : kSeeds) {
       if (!check_shape(place(t, seed), t, seed)) return;
@@ -104,7 +105,7 @@ TEST(InitBilliard, ReturnsOneFiniteRowPerCircle) {
   }
 }
 
-TEST(InitBilliard, ZeroCirclesGiveNoRows) {
+GRADED_TEST(InitBilliard, ZeroCirclesGiveNoRows, 2, after_due_date) {
   for (const Table& t : {Table{10, 1, 0}, Table{3.5, 0.25, 0}}) {
     if (!check_shape(place(t, 1), t, 1)) return;
   }
@@ -112,7 +113,7 @@ TEST(InitBilliard, ZeroCirclesGiveNoRows) {
 
 // --- Placement -------------------------------------------------------------------------------
 
-TEST(InitBilliard, EveryCircleLiesFullyInsideTheTable) {
+GRADED_TEST(InitBilliard, EveryCircleLiesFullyInsideTheTable, 3, after_due_date) {
   for (const Table& t : kTables) {
     for (const std::uint64_t seed : kSeeds) {
       const Coordinates c = place(t, seed);
@@ -121,7 +122,7 @@ TEST(InitBilliard, EveryCircleLiesFullyInsideTheTable) {
   }
 }
 
-TEST(InitBilliard, NoTwoCirclesOverlap) {
+GRADED_TEST(InitBilliard, NoTwoCirclesOverlap, 3, visible) {
   for (const Table& t : kTables) {
     for (const std::uint64_t seed : kSeeds) {
       const Coordinates c = place(t, seed);
@@ -131,7 +132,7 @@ TEST(InitBilliard, NoTwoCirclesOverlap) {
 }
 
 // One circle that almost fills the table: its centre must stay within 0.5 of the origin.
-TEST(InitBilliard, OneLargeCircleFitsInsideTheTable) {
+GRADED_TEST(InitBilliard, OneLargeCircleFitsInsideTheTable, 2, after_due_date) {
   const Table t{10, 9.5, 1};
   for (std::uint64_t seed = 1; seed <= 20; ++seed) {
     const Coordinates c = place(t, seed);
@@ -142,7 +143,7 @@ TEST(InitBilliard, OneLargeCircleFitsInsideTheTable) {
 // Area fraction n a^2 / R^2 = 0.5 (the densest packing of discs is 0.9069): the circles must be
 // placed, inside and without overlap, in reasonable time (a hang is stopped by the test's time
 // limit).
-TEST(InitBilliard, DenseTablesAreFilled) {
+GRADED_TEST(InitBilliard, DenseTablesAreFilled, 3, after_due_date) {
   for (const Table& t : {Table{10, 1, 50}, Table{20, 1, 200}}) {
     for (const std::uint64_t seed : {1, 2, 3}) {
       Coordinates c;
@@ -167,7 +168,7 @@ TEST(InitBilliard, DenseTablesAreFilled) {
 
 // --- Randomness ------------------------------------------------------------------------------
 
-TEST(InitBilliard, SameSeedGivesTheSameTable) {
+GRADED_TEST(InitBilliard, SameSeedGivesTheSameTable, 2, after_due_date) {
   for (const Table& t : {Table{10, 1, 10}, Table{100, 3, 60}}) {
     for (const std::uint64_t seed : kSeeds) {
       const Coordinates first = place(t, seed), second = place(t, seed);
@@ -187,7 +188,7 @@ TEST(InitBilliard, SameSeedGivesTheSameTable) {
   }
 }
 
-TEST(InitBilliard, DifferentSeedsGiveDifferentTables) {
+GRADED_TEST(InitBilliard, DifferentSeedsGiveDifferentTables, 2, after_due_date) {
   const Table t{10, 1, 10};
   std::vector<Coordinates> tables;
   for (std::uint64_t seed = 1; seed <= 10; ++seed) {
@@ -209,7 +210,7 @@ TEST(InitBilliard, DifferentSeedsGiveDifferentTables) {
 
 // The generator is passed by reference so that it advances: two calls in a row with the same
 // generator object must give different tables.
-TEST(InitBilliard, RepeatedCallsWithOneGeneratorGiveDifferentTables) {
+GRADED_TEST(InitBilliard, RepeatedCallsWithOneGeneratorGiveDifferentTables, 2, after_due_date) {
   const Table t{10, 1, 10};
   Rng rng(7);
   const Coordinates first = init_billiard(t.R, t.a, t.n, rng);
@@ -243,7 +244,7 @@ std::vector<std::array<double, 2>> single_circle_samples(int count, std::uint64_
   return samples;
 }
 
-TEST(InitBilliard, SingleCircleIsCentredOnAverage) {
+GRADED_TEST(InitBilliard, SingleCircleIsCentredOnAverage, 2, after_due_date) {
   // S = 20000 samples: standard error of the mean of x is (rho / 2) / sqrt(S) = 4.5 / 141 =
   // 0.032, so the bound is 5 * 0.032 = 0.16 (1.8% of rho).
   constexpr int S = 20000;
@@ -266,7 +267,7 @@ TEST(InitBilliard, SingleCircleIsCentredOnAverage) {
   }
 }
 
-TEST(InitBilliard, SingleCircleIsUniformInArea) {
+GRADED_TEST(InitBilliard, SingleCircleIsUniformInArea, 3, after_due_date) {
   // E[r^2] = rho^2 / 2 = 40.5 for uniform-in-area; the common mistake of drawing the distance
   // from the centre uniformly in [0, rho] gives rho^2 / 3 = 27. Standard error of the mean of
   // r^2 with S = 20000: (rho^2 / sqrt(12)) / sqrt(S) = 23.4 / 141 = 0.165; bound 5 * 0.165.
@@ -288,7 +289,7 @@ TEST(InitBilliard, SingleCircleIsUniformInArea) {
       "uniform in [0, 1]");
 }
 
-TEST(InitBilliard, SingleCircleQuadrantsAreEquallyLikely) {
+GRADED_TEST(InitBilliard, SingleCircleQuadrantsAreEquallyLikely, 2, after_due_date) {
   // Each quadrant has probability 1/4; with S = 20000 the standard error of a fraction is
   // sqrt(1/4 * 3/4 / S) = 0.0031, so the bound is 5 * 0.0031 = 0.015.
   constexpr int S = 20000;
@@ -306,7 +307,7 @@ TEST(InitBilliard, SingleCircleQuadrantsAreEquallyLikely) {
   }
 }
 
-TEST(InitBilliard, SingleCircleFillsEqualAreasEquallyOften) {
+GRADED_TEST(InitBilliard, SingleCircleFillsEqualAreasEquallyOften, 2, after_due_date) {
   // Cut the reachable disc into 8 rings of equal area (r^2 in steps of rho^2 / 8) and 8 equal
   // sectors: 64 cells, each with probability 1/64. With S = 64000 samples each cell expects
   // E = 1000, and chi^2 = sum (count - E)^2 / E follows a chi^2 law with 63 degrees of
@@ -344,7 +345,7 @@ TEST(InitBilliard, SingleCircleFillsEqualAreasEquallyOften) {
 // row, must be spread over the whole table.
 constexpr Table kDilute{20, 1, 5};
 
-TEST(InitBilliard, EveryCircleIsCentredOnAverage) {
+GRADED_TEST(InitBilliard, EveryCircleIsCentredOnAverage, 2, after_due_date) {
   // The law of the table is unchanged by rotations about the centre, so each row's mean
   // position is exactly 0. Over S = 10000 seeds the standard error of row i's mean x is
   // sd(x_i) / sqrt(S) with sd(x_i) about rho / 2 = 9.5, i.e. 0.095; we use the measured
@@ -383,7 +384,7 @@ TEST(InitBilliard, EveryCircleIsCentredOnAverage) {
   }
 }
 
-TEST(InitBilliard, DiluteTableIsUniformInArea) {
+GRADED_TEST(InitBilliard, DiluteTableIsUniformInArea, 2, after_due_date) {
   // Uniform in area over the reachable disc of radius rho = R - a = 19 puts half the centres
   // inside r = rho / sqrt(2). Excluded volume shifts this a little: another circle blocks a
   // disc of radius 2a = 2, which is less often cut by the wall in the inner half, so the inner
@@ -419,7 +420,7 @@ TEST(InitBilliard, DiluteTableIsUniformInArea) {
 
 // --- Invalid arguments -------------------------------------------------------------------------
 
-TEST(InitBilliard, RejectsTableRadiusThatIsNotPositiveAndFinite) {
+GRADED_TEST(InitBilliard, RejectsTableRadiusThatIsNotPositiveAndFinite, 1, after_due_date) {
   for (const double R : {0.0, -1.0, -kInf, kNaN, kInf}) {
     expect_invalid_argument(
         [&] {
@@ -432,7 +433,7 @@ TEST(InitBilliard, RejectsTableRadiusThatIsNotPositiveAndFinite) {
   }
 }
 
-TEST(InitBilliard, RejectsCircleRadiusThatIsNotPositiveAndFinite) {
+GRADED_TEST(InitBilliard, RejectsCircleRadiusThatIsNotPositiveAndFinite, 1, after_due_date) {
   for (const double a : {0.0, -0.5, -kInf, kNaN, kInf}) {
     expect_invalid_argument(
         [&] {
@@ -445,7 +446,7 @@ TEST(InitBilliard, RejectsCircleRadiusThatIsNotPositiveAndFinite) {
   }
 }
 
-TEST(InitBilliard, RejectsCircleRadiusNotSmallerThanTableRadius) {
+GRADED_TEST(InitBilliard, RejectsCircleRadiusNotSmallerThanTableRadius, 1, after_due_date) {
   for (const Table& t : {Table{10, 10, 1}, Table{10, 12, 3}, Table{2.5, 2.5000001, 2}}) {
     expect_invalid_argument(
         [&] {
@@ -458,7 +459,7 @@ TEST(InitBilliard, RejectsCircleRadiusNotSmallerThanTableRadius) {
   }
 }
 
-TEST(InitBilliard, RejectsNegativeNumberOfCircles) {
+GRADED_TEST(InitBilliard, RejectsNegativeNumberOfCircles, 1, after_due_date) {
   for (const int n : {-1, -7}) {
     expect_invalid_argument(
         [&] {
@@ -471,7 +472,7 @@ TEST(InitBilliard, RejectsNegativeNumberOfCircles) {
 
 // Area fractions 10 and 1.0, both above the densest packing of discs, pi / sqrt(12) = 0.9069:
 // impossible, so the function must say so instead of searching forever.
-TEST(InitBilliard, RejectsImpossiblePackings) {
+GRADED_TEST(InitBilliard, RejectsImpossiblePackings, 1, after_due_date) {
   for (const Table& t : {Table{10, 1, 1000}, Table{10, 1, 100}}) {
     expect_invalid_argument(
         [&] {

@@ -2,6 +2,7 @@
 // directions, no preferred direction, not all zero. The coordinates come from the test
 // fixtures, never from the student's init_billiard.
 #include "support/fixtures.hpp"
+#include "support/graded.hpp"
 #include "support/student_messages.hpp"
 
 #include <gtest/gtest.h>
@@ -48,7 +49,7 @@ bool check_shape(const Velocities& v, int n, std::uint64_t seed) {
 
 // --- Shape -----------------------------------------------------------------------------------
 
-TEST(InitVelocities, ReturnsOneFiniteRowPerCircle) {
+GRADED_TEST(InitVelocities, ReturnsOneFiniteRowPerCircle, 2, visible) {
   for (const int n : {1, 2, 10, 30}) {
     for (const std::uint64_t seed : {1, 2, 3}) {
       if (!check_shape(draw(n, seed), n, seed)) return;
@@ -56,13 +57,13 @@ TEST(InitVelocities, ReturnsOneFiniteRowPerCircle) {
   }
 }
 
-TEST(InitVelocities, ZeroCirclesGiveNoRows) {
+GRADED_TEST(InitVelocities, ZeroCirclesGiveNoRows, 2, after_due_date) {
   Rng rng(1);
   const Velocities v = init_velocities(0, Coordinates(0, 2), rng);
   check_shape(v, 0, 1);
 }
 
-TEST(InitVelocities, VelocitiesAreNotAllZero) {
+GRADED_TEST(InitVelocities, VelocitiesAreNotAllZero, 2, visible) {
   for (const int n : {1, 2, 10}) {
     for (std::uint64_t seed = 1; seed <= 5; ++seed) {
       const Velocities v = draw(n, seed);
@@ -80,7 +81,7 @@ TEST(InitVelocities, VelocitiesAreNotAllZero) {
 
 // --- Randomness ------------------------------------------------------------------------------
 
-TEST(InitVelocities, SameSeedGivesTheSameVelocities) {
+GRADED_TEST(InitVelocities, SameSeedGivesTheSameVelocities, 2, after_due_date) {
   for (const int n : {1, 10}) {
     for (const std::uint64_t seed : {1, 2, 3, 42}) {
       const Velocities first = draw(n, seed), second = draw(n, seed);
@@ -99,7 +100,7 @@ TEST(InitVelocities, SameSeedGivesTheSameVelocities) {
   }
 }
 
-TEST(InitVelocities, DifferentSeedsGiveDifferentVelocities) {
+GRADED_TEST(InitVelocities, DifferentSeedsGiveDifferentVelocities, 2, after_due_date) {
   const int n = 10;
   std::vector<Velocities> draws;
   for (std::uint64_t seed = 1; seed <= 10; ++seed) {
@@ -119,7 +120,7 @@ TEST(InitVelocities, DifferentSeedsGiveDifferentVelocities) {
   }
 }
 
-TEST(InitVelocities, RepeatedCallsWithOneGeneratorGiveDifferentVelocities) {
+GRADED_TEST(InitVelocities, RepeatedCallsWithOneGeneratorGiveDifferentVelocities, 2, after_due_date) {
   const int n = 10;
   const Coordinates coordinates = scattered_circles(kR, kA, n, 5);
   Rng rng(7);
@@ -132,7 +133,7 @@ TEST(InitVelocities, RepeatedCallsWithOneGeneratorGiveDifferentVelocities) {
       "use the generator `rng` itself (it is passed by reference); do not copy it (Rng copy = rng;) or re-seed it");
 }
 
-TEST(InitVelocities, DifferentCirclesGetDifferentVelocities) {
+GRADED_TEST(InitVelocities, DifferentCirclesGetDifferentVelocities, 2, after_due_date) {
   const int n = 20;
   for (std::uint64_t seed = 1; seed <= 5; ++seed) {
     const Velocities v = draw(n, seed);
@@ -174,7 +175,7 @@ std::vector<Velocities> many_draws() {
   return draws;
 }
 
-TEST(InitVelocities, MeanVelocityIsZero) {
+GRADED_TEST(InitVelocities, MeanVelocityIsZero, 3, after_due_date) {
   // For velocities with no preferred direction E[v] = 0. The bound for each component is 5
   // standard errors of the mean; for independent, unit-variance components it is about
   // 5 / sqrt(S n) = 0.008 of the rms speed.
@@ -205,7 +206,7 @@ TEST(InitVelocities, MeanVelocityIsZero) {
   }
 }
 
-TEST(InitVelocities, DirectionsFallInTheFourQuadrantsEquallyOften) {
+GRADED_TEST(InitVelocities, DirectionsFallInTheFourQuadrantsEquallyOften, 2, after_due_date) {
   // Each quadrant of direction (signs of vx and vy) has probability 1/4. Per seed, the fraction
   // of the 10 circles in a quadrant has standard deviation about sqrt(1/4 * 3/4 / 10) = 0.14,
   // so over S = 4000 seeds the bound 5 standard errors is about 0.011.
@@ -239,7 +240,7 @@ TEST(InitVelocities, DirectionsFallInTheFourQuadrantsEquallyOften) {
 
 // --- Invalid arguments -------------------------------------------------------------------------
 
-TEST(InitVelocities, RejectsCoordinatesWithWrongRowCount) {
+GRADED_TEST(InitVelocities, RejectsCoordinatesWithWrongRowCount, 1, after_due_date) {
   struct Case {
     int n;
     int rows;
@@ -257,7 +258,7 @@ TEST(InitVelocities, RejectsCoordinatesWithWrongRowCount) {
   }
 }
 
-TEST(InitVelocities, RejectsNegativeNumberOfCircles) {
+GRADED_TEST(InitVelocities, RejectsNegativeNumberOfCircles, 1, after_due_date) {
   for (const int n : {-1, -4}) {
     expect_invalid_argument(
         [&] {

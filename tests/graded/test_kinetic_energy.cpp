@@ -7,6 +7,7 @@
 // only: a sum of n squares in double is exact to about n * 1e-16 relative, so 1e-12 relative
 // is ample for the sizes used here (n <= 1000).
 #include "support/fixtures.hpp"
+#include "support/graded.hpp"
 #include "support/student_messages.hpp"
 
 #include <algorithm>
@@ -42,7 +43,7 @@ const char* const kHintMean =
 // ---------------------------------------------------------------------------------------------
 // kinetic_energy
 
-TEST(KineticEnergy, TwoCirclesByHand) {
+GRADED_TEST(KineticEnergy, TwoCirclesByHand, 2, visible) {
   // (3^2 + 4^2 + 0 + 0) / 2 = 12.5
   Velocities v(2, 2);
   v << 3, 4, 0, 0;
@@ -53,7 +54,7 @@ TEST(KineticEnergy, TwoCirclesByHand) {
                                                            : kHintMean);
 }
 
-TEST(KineticEnergy, DividesByTheNumberOfCircles) {
+GRADED_TEST(KineticEnergy, DividesByTheNumberOfCircles, 3, after_due_date) {
   // Four circles of speed 1 and 2: (1 + 1 + 4 + 4) / 4 = 2.5, not the sum 10.
   Velocities v(4, 2);
   v << 1, 0, 0, -1, 2, 0, 0, 2;
@@ -65,7 +66,7 @@ TEST(KineticEnergy, DividesByTheNumberOfCircles) {
                                                    : kHintMean);
 }
 
-TEST(KineticEnergy, SquaresTheSpeeds) {
+GRADED_TEST(KineticEnergy, SquaresTheSpeeds, 2, after_due_date) {
   // One circle with velocity (3, 4): |v|^2 = 25, not |v| = 5.
   Velocities v(1, 2);
   v << 3, 4;
@@ -78,7 +79,7 @@ TEST(KineticEnergy, SquaresTheSpeeds) {
                                                  : kHintMean);
 }
 
-TEST(KineticEnergy, MatchesDirectSumForRandomVelocities) {
+GRADED_TEST(KineticEnergy, MatchesDirectSumForRandomVelocities, 2, after_due_date) {
   for (const int n : {1, 7, 1000}) {
     Velocities v = billiard::testing::gaussian_velocities(n, 60 + static_cast<unsigned>(n));
     v *= 3.5;
@@ -89,27 +90,27 @@ TEST(KineticEnergy, MatchesDirectSumForRandomVelocities) {
   }
 }
 
-TEST(KineticEnergy, ZeroForNoCircles) {
+GRADED_TEST(KineticEnergy, ZeroForNoCircles, 2, after_due_date) {
   const Velocities v(0, 2);
   const double got = billiard::kinetic_energy(0, v);
   EXPECT_EQ(got, 0.0) << explain("0 for n = 0 (no circles, no energy)", text("returned ", got),
                                  "dividing the empty sum 0 by n = 0 gives NaN: return 0 when n == 0.");
 }
 
-TEST(KineticEnergy, ZeroForCirclesAtRest) {
+GRADED_TEST(KineticEnergy, ZeroForCirclesAtRest, 2, after_due_date) {
   const Velocities v = Velocities::Zero(5, 2);
   const double got = billiard::kinetic_energy(5, v);
   EXPECT_EQ(got, 0.0) << explain("0 for five circles at rest", text("returned ", got), kHintMean);
 }
 
-TEST(KineticEnergy, RejectsRowCountMismatch) {
+GRADED_TEST(KineticEnergy, RejectsRowCountMismatch, 1, after_due_date) {
   Velocities v(3, 2);
   v << 1, 0, 0, 1, 1, 1;
   expect_invalid_argument([&] { billiard::kinetic_energy(2, v); }, "velocities with 3 rows for n = 2", "velocities",
                           "check velocities.rows() == n and throw std::invalid_argument naming `velocities`.");
 }
 
-TEST(KineticEnergy, RejectsNegativeN) {
+GRADED_TEST(KineticEnergy, RejectsNegativeN, 1, after_due_date) {
   const Velocities v(0, 2);
   expect_invalid_argument([&] { billiard::kinetic_energy(-1, v); }, "n = -1", "n",
                           "a negative number of circles is invalid: check n >= 0 first.");
@@ -118,7 +119,7 @@ TEST(KineticEnergy, RejectsNegativeN) {
 // ---------------------------------------------------------------------------------------------
 // correct_energy_drift
 
-TEST(CorrectEnergyDrift, ReachesTheTargetMeanSquare) {
+GRADED_TEST(CorrectEnergyDrift, ReachesTheTargetMeanSquare, 2, visible) {
   for (const double target : {2.5, 1e-4, 7e3}) {
     Velocities v = billiard::testing::gaussian_velocities(100, 62);
     billiard::correct_energy_drift(100, v, target);
@@ -130,7 +131,7 @@ TEST(CorrectEnergyDrift, ReachesTheTargetMeanSquare) {
   }
 }
 
-TEST(CorrectEnergyDrift, ScalesBySquareRootOfTheRatio) {
+GRADED_TEST(CorrectEnergyDrift, ScalesBySquareRootOfTheRatio, 3, after_due_date) {
   // <v^2> = (1 + 1) / 2 = 1; to reach 4 every velocity doubles: (2, 0) and (0, 2).
   Velocities v(2, 2);
   v << 1, 0, 0, 1;
@@ -144,7 +145,7 @@ TEST(CorrectEnergyDrift, ScalesBySquareRootOfTheRatio) {
                                    : "multiply every velocity by the same factor sqrt(target / now).");
 }
 
-TEST(CorrectEnergyDrift, KeepsEveryDirection) {
+GRADED_TEST(CorrectEnergyDrift, KeepsEveryDirection, 2, after_due_date) {
   Velocities v = billiard::testing::gaussian_velocities(50, 63);
   v.row(7).setZero();  // a circle at rest stays at rest
   const Velocities before = v;
@@ -167,7 +168,7 @@ TEST(CorrectEnergyDrift, KeepsEveryDirection) {
   }
 }
 
-TEST(CorrectEnergyDrift, TargetZeroStopsAllCircles) {
+GRADED_TEST(CorrectEnergyDrift, TargetZeroStopsAllCircles, 2, after_due_date) {
   Velocities v = billiard::testing::gaussian_velocities(10, 64);
   billiard::correct_energy_drift(10, v, 0);
   EXPECT_TRUE(v.isZero(0)) << explain("all velocities exactly 0 for target_mean_square = 0",
@@ -175,7 +176,7 @@ TEST(CorrectEnergyDrift, TargetZeroStopsAllCircles) {
                                       "the factor sqrt(0 / now) is 0: every velocity becomes (0, 0).");
 }
 
-TEST(CorrectEnergyDrift, NoCirclesWithTargetZeroIsFine) {
+GRADED_TEST(CorrectEnergyDrift, NoCirclesWithTargetZeroIsFine, 2, after_due_date) {
   Velocities v(0, 2);
   try {
     billiard::correct_energy_drift(0, v, 0);
@@ -188,7 +189,7 @@ TEST(CorrectEnergyDrift, NoCirclesWithTargetZeroIsFine) {
                                     text("they now have ", v.rows(), " rows"), "do not resize the velocities.");
 }
 
-TEST(CorrectEnergyDrift, RestoresVelocitiesAfterSmallDrift) {
+GRADED_TEST(CorrectEnergyDrift, RestoresVelocitiesAfterSmallDrift, 2, after_due_date) {
   // Rounding makes <v^2> drift; here every velocity is too large by a known 1e-6 relative.
   const Velocities original = billiard::testing::gaussian_velocities(200, 65);
   const double target = mean_square(original);
@@ -204,7 +205,7 @@ TEST(CorrectEnergyDrift, RestoresVelocitiesAfterSmallDrift) {
       text("they differ by ", difference, " relative"), "rescale all velocities by one common factor.");
 }
 
-TEST(CorrectEnergyDrift, CorrectsSinglePrecisionRounding) {
+GRADED_TEST(CorrectEnergyDrift, CorrectsSinglePrecisionRounding, 2, after_due_date) {
   // Velocities rounded to float (about 1e-7 relative error each, in random directions) have a
   // slightly wrong <v^2>; the correction restores the double-precision target.
   const Velocities original = billiard::testing::gaussian_velocities(500, 66) * 1.7;
@@ -219,7 +220,7 @@ TEST(CorrectEnergyDrift, CorrectsSinglePrecisionRounding) {
       text("<v^2> afterwards is ", got), "multiply every velocity by sqrt(target / now), computed in double.");
 }
 
-TEST(CorrectEnergyDrift, RejectsNegativeTarget) {
+GRADED_TEST(CorrectEnergyDrift, RejectsNegativeTarget, 1, after_due_date) {
   Velocities v = billiard::testing::gaussian_velocities(3, 67);
   expect_invalid_argument([&] { billiard::correct_energy_drift(3, v, -1); }, "target_mean_square = -1",
                           "target_mean_square",
@@ -227,7 +228,7 @@ TEST(CorrectEnergyDrift, RejectsNegativeTarget) {
                           "message.");
 }
 
-TEST(CorrectEnergyDrift, RejectsNonFiniteTarget) {
+GRADED_TEST(CorrectEnergyDrift, RejectsNonFiniteTarget, 1, after_due_date) {
   for (const double target : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
     Velocities v = billiard::testing::gaussian_velocities(3, 68);
     expect_invalid_argument([&] { billiard::correct_energy_drift(3, v, target); },
@@ -237,7 +238,7 @@ TEST(CorrectEnergyDrift, RejectsNonFiniteTarget) {
   }
 }
 
-TEST(CorrectEnergyDrift, RejectsPositiveTargetWhenAllAtRest) {
+GRADED_TEST(CorrectEnergyDrift, RejectsPositiveTargetWhenAllAtRest, 1, after_due_date) {
   Velocities v = Velocities::Zero(4, 2);
   expect_invalid_argument([&] { billiard::correct_energy_drift(4, v, 1); },
                           "a positive target_mean_square while all circles are at rest", "",
@@ -245,13 +246,13 @@ TEST(CorrectEnergyDrift, RejectsPositiveTargetWhenAllAtRest) {
                           "throw std::invalid_argument.");
 }
 
-TEST(CorrectEnergyDrift, RejectsRowCountMismatch) {
+GRADED_TEST(CorrectEnergyDrift, RejectsRowCountMismatch, 1, after_due_date) {
   Velocities v = billiard::testing::gaussian_velocities(3, 69);
   expect_invalid_argument([&] { billiard::correct_energy_drift(2, v, 1); }, "velocities with 3 rows for n = 2",
                           "velocities", "check velocities.rows() == n and name `velocities` in the message.");
 }
 
-TEST(CorrectEnergyDrift, RejectsNegativeN) {
+GRADED_TEST(CorrectEnergyDrift, RejectsNegativeN, 1, after_due_date) {
   Velocities v(0, 2);
   expect_invalid_argument([&] { billiard::correct_energy_drift(-2, v, 1); }, "n = -2", "n",
                           "a negative number of circles is invalid: check n >= 0 first.");

@@ -9,6 +9,7 @@
 // position of the table's centre and a flipped y axis; discs are recognised by where they
 // start, so their order in the file does not matter. Inputs come from the test fixtures.
 #include "support/fixtures.hpp"
+#include "support/graded.hpp"
 #include "support/student_messages.hpp"
 #include "support/svg_reader.hpp"
 
@@ -255,7 +256,7 @@ void expect_positions(const System& s, const Film& film, const std::vector<doubl
 
 // --- State -----------------------------------------------------------------------------------
 
-TEST(Movie, LeavesTheStateAfterTheCollisions) {
+GRADED_TEST(Movie, LeavesTheStateAfterTheCollisions, 3, after_due_date) {
   for (const System& s : kSystems) {
     ScratchFolder folder;
     Coordinates c = s.coordinates();
@@ -281,7 +282,7 @@ TEST(Movie, LeavesTheStateAfterTheCollisions) {
 
 // --- The file --------------------------------------------------------------------------------
 
-TEST(Movie, DrawsTheTableAndOneCirclePerDisc) {
+GRADED_TEST(Movie, DrawsTheTableAndOneCirclePerDisc, 2, visible) {
   for (const System& s : kSystems) {
     const auto picture = film(s);
     if (!picture) return;
@@ -296,7 +297,7 @@ TEST(Movie, DrawsTheTableAndOneCirclePerDisc) {
   }
 }
 
-TEST(Movie, EveryDiscAnimatesCxAndCy) {
+GRADED_TEST(Movie, EveryDiscAnimatesCxAndCy, 2, visible) {
   for (const System& s : kSystems) {
     const auto picture = film(s);
     if (!picture) return;
@@ -331,7 +332,7 @@ TEST(Movie, EveryDiscAnimatesCxAndCy) {
 
 // Discs move at constant velocity between collisions, so linear interpolation (SVG's default)
 // is exact; "discrete" jumps, "paced" ignores keyTimes and "spline" accelerates.
-TEST(Movie, AnimationsInterpolateLinearly) {
+GRADED_TEST(Movie, AnimationsInterpolateLinearly, 2, after_due_date) {
   const System s = kSystems.front();
   const auto picture = film(s);
   if (!picture) return;
@@ -366,7 +367,7 @@ bool same_begin(const SvgAnimation& one, const SvgAnimation& other) {
   return std::abs(a - b) <= 1e-9 * std::max(1.0, std::abs(a));
 }
 
-TEST(Movie, AnimationsShareAPositiveDuration) {
+GRADED_TEST(Movie, AnimationsShareAPositiveDuration, 2, after_due_date) {
   const System s = kSystems.front();
   const auto picture = film(s);
   if (!picture) return;
@@ -407,7 +408,7 @@ TEST(Movie, AnimationsShareAPositiveDuration) {
 
 // --- What the animation shows ----------------------------------------------------------------
 
-TEST(Movie, AnimationShowsTheDiscsAtEveryCollision) {
+GRADED_TEST(Movie, AnimationShowsTheDiscsAtEveryCollision, 3, after_due_date) {
   for (const System& s : kSystems) {
     const auto picture = film(s);
     if (!picture) return;
@@ -433,7 +434,7 @@ TEST(Movie, AnimationShowsTheDiscsAtEveryCollision) {
   }
 }
 
-TEST(Movie, AnimationMovesTheDiscsInStraightLinesBetweenCollisions) {
+GRADED_TEST(Movie, AnimationMovesTheDiscsInStraightLinesBetweenCollisions, 2, after_due_date) {
   for (const System& s : kSystems) {
     const auto picture = film(s);
     if (!picture) return;
@@ -466,7 +467,7 @@ TEST(Movie, AnimationMovesTheDiscsInStraightLinesBetweenCollisions) {
 
 // --- No collisions ---------------------------------------------------------------------------
 
-TEST(Movie, ZeroCollisionsLeaveTheStateUnchanged) {
+GRADED_TEST(Movie, ZeroCollisionsLeaveTheStateUnchanged, 2, after_due_date) {
   System s = kSystems.front();
   s.collisions = 0;
   ScratchFolder folder;
@@ -481,7 +482,7 @@ TEST(Movie, ZeroCollisionsLeaveTheStateUnchanged) {
       "with collisions = 0 the loop over propagate must not run at all");
 }
 
-TEST(Movie, ZeroCollisionsDrawAStillTable) {
+GRADED_TEST(Movie, ZeroCollisionsDrawAStillTable, 2, after_due_date) {
   System s = kSystems.front();
   s.collisions = 0;
   const auto picture = film(s);
@@ -498,7 +499,7 @@ TEST(Movie, ZeroCollisionsDrawAStillTable) {
 
 // --- Invalid arguments -------------------------------------------------------------------------
 
-TEST(Movie, RejectsNegativeCollisions) {
+GRADED_TEST(Movie, RejectsNegativeCollisions, 1, after_due_date) {
   const System s{10, 1, 5, -1, 4};
   ScratchFolder folder;
   Coordinates c = s.coordinates();
@@ -510,7 +511,7 @@ TEST(Movie, RejectsNegativeCollisions) {
 }
 
 // propagate throws std::invalid_argument when no collision can ever happen; movie passes it on.
-TEST(Movie, RejectsCirclesThatAreAllAtRest) {
+GRADED_TEST(Movie, RejectsCirclesThatAreAllAtRest, 1, after_due_date) {
   const System s{10, 1, 5, 5, 4};
   ScratchFolder folder;
   Coordinates c = s.coordinates();

@@ -6,6 +6,7 @@
 // for rounding only: hand-made cases have numbers of order 1 to 10, so double precision gives
 // about 1e-15; the tests allow 1e-12 there and 1e-9 where many steps or large tables add up.
 #include "support/fixtures.hpp"
+#include "support/graded.hpp"
 #include "support/oracle.hpp"
 #include "support/student_messages.hpp"
 
@@ -97,7 +98,7 @@ const char* const kHintRecollision =
 // ---------------------------------------------------------------------------------------------
 // 1. Hand-computed cases.
 
-TEST(Propagate, CircleFromCentreHitsWallAtTimeNine) {
+GRADED_TEST(Propagate, CircleFromCentreHitsWallAtTimeNine, 2, visible) {
   // R = 10, a = 1: the centre can go 9 from the origin; at speed 1 that takes time 9.
   Table t{10, 1, Coordinates(1, 2), Velocities(1, 2)};
   t.c << 0, 0;
@@ -111,7 +112,7 @@ TEST(Propagate, CircleFromCentreHitsWallAtTimeNine) {
   expect_row(t.v, 0, -1, 0, kTol, "the velocity after a head-on wall hit", kHintWallReflection);
 }
 
-TEST(Propagate, HeadOnCollisionAtTimeFour) {
+GRADED_TEST(Propagate, HeadOnCollisionAtTimeFour, 2, visible) {
   // Centres 10 apart closing at speed 2 touch when they are 2a = 2 apart: after time 4.
   Table t{10, 1, Coordinates(2, 2), Velocities(2, 2)};
   t.c << -5, 0, 5, 0;
@@ -126,7 +127,7 @@ TEST(Propagate, HeadOnCollisionAtTimeFour) {
   expect_row(t.v, 1, 1, 0, kTol, "circle 1's velocity after the head-on collision", kHintSwap);
 }
 
-TEST(Propagate, ObliqueCollisionExchangesOnlyNormalComponents) {
+GRADED_TEST(Propagate, ObliqueCollisionExchangesOnlyNormalComponents, 3, after_due_date) {
   // Circle 0 from (-4, 1) moving (1, 0) hits circle 1 resting at the origin when
   // |(x, 1)| = 2, i.e. at x = -sqrt(3), time 4 - sqrt(3). The line of centres then points
   // along n = (sqrt(3), -1) / 2, and only the velocity part along n is passed on:
@@ -143,7 +144,7 @@ TEST(Propagate, ObliqueCollisionExchangesOnlyNormalComponents) {
   expect_row(t.v, 1, 0.75, -s3 / 4, kTol, "the hit circle's velocity after an off-centre hit", kHintSwap);
 }
 
-TEST(Propagate, ObliqueWallHitReflectsOnlyNormalComponent) {
+GRADED_TEST(Propagate, ObliqueWallHitReflectsOnlyNormalComponent, 3, after_due_date) {
   // R = 6, a = 1: the centre reaches the wall at distance 5. From (0, 3) moving (1, 0) that is
   // the point (4, 3) at time 4. There n = (4, 3) / 5, v.n = 4/5 and
   // v' = (1, 0) - 2 (4/5) (4/5, 3/5) = (-7/25, -24/25).
@@ -157,7 +158,7 @@ TEST(Propagate, ObliqueWallHitReflectsOnlyNormalComponent) {
   expect_row(t.v, 0, -7.0 / 25, -24.0 / 25, kTol, "the velocity after an oblique wall hit", kHintWallReflection);
 }
 
-TEST(Propagate, SingleCircleBouncesWithConstantChordTime) {
+GRADED_TEST(Propagate, SingleCircleBouncesWithConstantChordTime, 2, after_due_date) {
   // A lone circle bounces along chords of the circle of radius R - a that the centre can reach.
   // Every chord is at the same distance d from the centre (angular momentum is conserved), so
   // the time between wall hits is always 2 sqrt((R - a)^2 - d^2) / |v|.
@@ -194,7 +195,7 @@ TEST(Propagate, SingleCircleBouncesWithConstantChordTime) {
 // ---------------------------------------------------------------------------------------------
 // 2. The earliest event is chosen.
 
-TEST(Propagate, WallHitBeforeCircleCollisionIsChosen) {
+GRADED_TEST(Propagate, WallHitBeforeCircleCollisionIsChosen, 2, after_due_date) {
   // Circles 0 and 1 collide at time 4; circle 2, listed last, reaches the wall at time 2.
   Table t{10, 1, Coordinates(3, 2), Velocities(3, 2)};
   t.c << -5, -3, 5, -3, 0, 7;
@@ -205,7 +206,7 @@ TEST(Propagate, WallHitBeforeCircleCollisionIsChosen) {
                  text("returned ", describe(got)), kHintEarliest);
 }
 
-TEST(Propagate, CircleCollisionBeforeWallHitIsChosen) {
+GRADED_TEST(Propagate, CircleCollisionBeforeWallHitIsChosen, 2, after_due_date) {
   // Circle 0, listed first, reaches the wall at time 5; circles 1 and 2 collide at time 4.
   Table t{10, 1, Coordinates(3, 2), Velocities(3, 2)};
   t.c << 0, 4, -5, -3, 5, -3;
@@ -216,7 +217,7 @@ TEST(Propagate, CircleCollisionBeforeWallHitIsChosen) {
                  text("returned ", describe(got)), kHintEarliest);
 }
 
-TEST(Propagate, EarliestOfSeveralCirclePairsIsChosen) {
+GRADED_TEST(Propagate, EarliestOfSeveralCirclePairsIsChosen, 2, after_due_date) {
   // Three head-on pairs on a large table (R = 20, a = 1): pair (0, 3) meets at time 3,
   // pair (2, 5) at time 2 and pair (1, 4), the last one found by most loops, at time 1.
   Table t{20, 1, Coordinates(6, 2), Velocities(6, 2)};
@@ -231,7 +232,7 @@ TEST(Propagate, EarliestOfSeveralCirclePairsIsChosen) {
 // ---------------------------------------------------------------------------------------------
 // 3. Everything moves; nothing collides with itself.
 
-TEST(Propagate, EveryCircleMovesDuringTheStep) {
+GRADED_TEST(Propagate, EveryCircleMovesDuringTheStep, 2, after_due_date) {
   // Circles 0 and 1 collide at time 4; circles 2 and 3 are bystanders that keep moving.
   Table t{10, 1, Coordinates(4, 2), Velocities(4, 2)};
   t.c << -5, 0, 5, 0, 0, -6, -3, 5;
@@ -249,7 +250,7 @@ TEST(Propagate, EveryCircleMovesDuringTheStep) {
              "only the circle(s) in the collision change velocity.");
 }
 
-TEST(Propagate, CirclesAtRestStayPut) {
+GRADED_TEST(Propagate, CirclesAtRestStayPut, 2, after_due_date) {
   // Circles 2 and 3 are at rest away from the head-on pair: they neither move nor collide.
   Table t{10, 1, Coordinates(4, 2), Velocities(4, 2)};
   t.c << -5, 0, 5, 0, 0, 6, -6, -6;
@@ -313,7 +314,7 @@ bool checked_step(Table& t, Collision& got, const std::string& where) {
   }
 }
 
-TEST(Propagate, ReportsValidIndicesAndNeverACircleWithItself) {
+GRADED_TEST(Propagate, ReportsValidIndicesAndNeverACircleWithItself, 2, after_due_date) {
   for (int k = 0; k < 20; ++k) {
     RandomSystem s = random_system(k, k % 2 == 1);
     const int n = s.table.n();
@@ -338,7 +339,7 @@ TEST(Propagate, ReportsValidIndicesAndNeverACircleWithItself) {
 // ---------------------------------------------------------------------------------------------
 // 4. The right root, and no collision for circles that separate or slide past each other.
 
-TEST(Propagate, CirclesMovingApartDoNotCollide) {
+GRADED_TEST(Propagate, CirclesMovingApartDoNotCollide, 2, after_due_date) {
   // Touch-free circles flying apart only meet the wall, both at time 7.
   Table t{10, 1, Coordinates(2, 2), Velocities(2, 2)};
   t.c << -2, 0, 2, 0;
@@ -351,7 +352,7 @@ TEST(Propagate, CirclesMovingApartDoNotCollide) {
                  "past (negative times), so there is no collision. Only accept b < 0 and t >= 0.");
 }
 
-TEST(Propagate, FirstContactIsChosenNotTheSeparationTime) {
+GRADED_TEST(Propagate, FirstContactIsChosenNotTheSeparationTime, 3, after_due_date) {
   // |(-6 + 2t, 1)| = 2 has roots 3 - sqrt(3)/2 (first contact) and 3 + sqrt(3)/2 (when the
   // circles, passing through each other, would separate again).
   Table t{10, 1, Coordinates(2, 2), Velocities(2, 2)};
@@ -368,7 +369,7 @@ TEST(Propagate, FirstContactIsChosenNotTheSeparationTime) {
                      : kHintPairTime);
 }
 
-TEST(Propagate, GrazingPairSlidingPastDoesNotCollide) {
+GRADED_TEST(Propagate, GrazingPairSlidingPastDoesNotCollide, 2, after_due_date) {
   // Touching circles moving side by side in opposite directions (b = dr.dv = 0) only graze:
   // no collision; both then reach the wall at time sqrt(80).
   Table t{10, 1, Coordinates(2, 2), Velocities(2, 2)};
@@ -382,7 +383,7 @@ TEST(Propagate, GrazingPairSlidingPastDoesNotCollide) {
                  "while touching do not exchange anything.");
 }
 
-TEST(Propagate, TouchingPairWithEqualVelocitiesDoesNotCollide) {
+GRADED_TEST(Propagate, TouchingPairWithEqualVelocitiesDoesNotCollide, 2, after_due_date) {
   // Touching circles moving together (dv = 0) never collide; both reach the wall at sqrt(80).
   Table t{10, 1, Coordinates(2, 2), Velocities(2, 2)};
   t.c << 0, -1, 0, 1;
@@ -398,7 +399,7 @@ TEST(Propagate, TouchingPairWithEqualVelocitiesDoesNotCollide) {
 // ---------------------------------------------------------------------------------------------
 // 5. No re-collision right after a collision.
 
-TEST(Propagate, NoRecollisionRightAfterCircleCollision) {
+GRADED_TEST(Propagate, NoRecollisionRightAfterCircleCollision, 2, after_due_date) {
   // After the head-on collision at time 4 the circles fly apart; next both hit the wall at 8.
   Table t{10, 1, Coordinates(2, 2), Velocities(2, 2)};
   t.c << -5, 0, 5, 0;
@@ -410,7 +411,7 @@ TEST(Propagate, NoRecollisionRightAfterCircleCollision) {
                  text("returned ", describe(got)), kHintRecollision);
 }
 
-TEST(Propagate, NoRecollisionRightAfterWallHit) {
+GRADED_TEST(Propagate, NoRecollisionRightAfterWallHit, 2, after_due_date) {
   // After the wall at (9, 0) the circle crosses the table: the next wall hit is 18 later.
   Table t{10, 1, Coordinates(1, 2), Velocities(1, 2)};
   t.c << 0, 0;
@@ -423,7 +424,7 @@ TEST(Propagate, NoRecollisionRightAfterWallHit) {
                  "is the positive one on the far side, (-B + sqrt(B^2 - A C)) / A, not t = 0.");
 }
 
-TEST(Propagate, NoImmediateRepeatOfTheSameCollisionInRandomSystems) {
+GRADED_TEST(Propagate, NoImmediateRepeatOfTheSameCollisionInRandomSystems, 3, after_due_date) {
   for (int k = 0; k < 20; ++k) {
     RandomSystem s = random_system(k, k % 2 == 0);
     const double scale = time_scale(s.table);
@@ -452,7 +453,7 @@ TEST(Propagate, NoImmediateRepeatOfTheSameCollisionInRandomSystems) {
 // ---------------------------------------------------------------------------------------------
 // Degenerate cases from rounding: a circle pushed onto the wall.
 
-TEST(Propagate, CircleKnockedAgainstTheWallBouncesBackAtOnce) {
+GRADED_TEST(Propagate, CircleKnockedAgainstTheWallBouncesBackAtOnce, 2, after_due_date) {
   // Circle 0 rests touching the wall at (9, 0); circle 1 comes from (5, 0) at speed 1.
   // Step 1: they collide at time 2, circle 0 takes the velocity (1, 0) while touching the wall.
   // Step 2: circle 0 reflects at once (time 0). Step 3: it hits circle 1 at once (time 0).
@@ -490,7 +491,7 @@ TEST(Propagate, CircleKnockedAgainstTheWallBouncesBackAtOnce) {
   expect_row(t.v, 0, 0, 0, kTol, "circle 0 to be at rest after passing its velocity on", kHintSwap);
 }
 
-TEST(Propagate, CircleOnTheWallMovingOutwardByRoundingReflects) {
+GRADED_TEST(Propagate, CircleOnTheWallMovingOutwardByRoundingReflects, 2, after_due_date) {
   // A circle whose centre lies a few rounding units beyond R - a (as after a collision next to
   // the wall) and that moves outward must hit the wall at t ~ 0 and come back, not escape.
   const double R = 7.3, a = 0.9, L = R - a;
@@ -536,14 +537,14 @@ Table two_circles() {
 
 using billiard::testing::expect_invalid_argument;
 
-TEST(Propagate, RejectsNoCircles) {
+GRADED_TEST(Propagate, RejectsNoCircles, 1, after_due_date) {
   Coordinates c(0, 2);
   Velocities v(0, 2);
   expect_invalid_argument([&] { billiard::propagate(10, 1, 0, c, v); }, "n = 0 (no circle, so no collision ever)",
                           "", "with no circles there is no earliest collision: throw std::invalid_argument.");
 }
 
-TEST(Propagate, RejectsAllCirclesAtRest) {
+GRADED_TEST(Propagate, RejectsAllCirclesAtRest, 1, after_due_date) {
   Table t = two_circles();
   t.v.setZero();
   expect_invalid_argument([&] { step(t); }, "all circles at rest (no collision ever)", "",
@@ -551,7 +552,7 @@ TEST(Propagate, RejectsAllCirclesAtRest) {
                           "infinite time or moving the circles by infinity.");
 }
 
-TEST(Propagate, RejectsBadTableRadius) {
+GRADED_TEST(Propagate, RejectsBadTableRadius, 1, after_due_date) {
   for (const double R : {0.0, -10.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
     Table t = two_circles();
     expect_invalid_argument([&] { billiard::propagate(R, 1, 2, t.c, t.v); }, text("table_radius = ", R),
@@ -559,7 +560,7 @@ TEST(Propagate, RejectsBadTableRadius) {
   }
 }
 
-TEST(Propagate, RejectsBadCircleRadius) {
+GRADED_TEST(Propagate, RejectsBadCircleRadius, 1, after_due_date) {
   for (const double a : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
     Table t = two_circles();
     expect_invalid_argument([&] { billiard::propagate(10, a, 2, t.c, t.v); }, text("circle_radius = ", a),
@@ -567,7 +568,7 @@ TEST(Propagate, RejectsBadCircleRadius) {
   }
 }
 
-TEST(Propagate, RejectsCircleRadiusNotSmallerThanTable) {
+GRADED_TEST(Propagate, RejectsCircleRadiusNotSmallerThanTable, 1, after_due_date) {
   for (const double a : {10.0, 12.0}) {
     Coordinates c(1, 2);
     Velocities v(1, 2);
@@ -579,7 +580,7 @@ TEST(Propagate, RejectsCircleRadiusNotSmallerThanTable) {
   }
 }
 
-TEST(Propagate, RejectsCoordinatesRowCountMismatch) {
+GRADED_TEST(Propagate, RejectsCoordinatesRowCountMismatch, 1, after_due_date) {
   Table t = two_circles();
   Coordinates three(3, 2);
   three << -5, 0, 5, 0, 0, 5;
@@ -587,7 +588,7 @@ TEST(Propagate, RejectsCoordinatesRowCountMismatch) {
                           "coordinates", "check coordinates.rows() == n before using the rows.");
 }
 
-TEST(Propagate, RejectsVelocitiesRowCountMismatch) {
+GRADED_TEST(Propagate, RejectsVelocitiesRowCountMismatch, 1, after_due_date) {
   Table t = two_circles();
   Velocities one(1, 2);
   one << 1, 0;
@@ -619,7 +620,7 @@ long double mean_square(const Velocities& v) {
   return sum / static_cast<long double>(v.rows());
 }
 
-TEST(Propagate, LongRunConservesMeanSquaredVelocity) {
+GRADED_TEST(Propagate, LongRunConservesMeanSquaredVelocity, 3, after_due_date) {
   Table t = long_run_table();
   const long double start = mean_square(t.v);
   for (int e = 1; e <= kLongRunCollisions; ++e) {
@@ -640,7 +641,7 @@ TEST(Propagate, LongRunConservesMeanSquaredVelocity) {
   }
 }
 
-TEST(Propagate, LongRunConservesAngularMomentum) {
+GRADED_TEST(Propagate, LongRunConservesAngularMomentum, 3, after_due_date) {
   Table t = long_run_table();
   const double start = billiard::testing::angular_momentum(t.c, t.v);
   double scale = 0;  // sum_i |r_i| |v_i|: the size of the terms that make up the total
@@ -663,7 +664,7 @@ TEST(Propagate, LongRunConservesAngularMomentum) {
   }
 }
 
-TEST(Propagate, LongRunKeepsCirclesApartAndOnTable) {
+GRADED_TEST(Propagate, LongRunKeepsCirclesApartAndOnTable, 3, after_due_date) {
   Table t = long_run_table();
   for (int e = 1; e <= kLongRunCollisions; ++e) {
     Collision got{};
@@ -692,7 +693,7 @@ TEST(Propagate, LongRunKeepsCirclesApartAndOnTable) {
   }
 }
 
-TEST(Propagate, LongRunTimesAreFiniteAndNotNegative) {
+GRADED_TEST(Propagate, LongRunTimesAreFiniteAndNotNegative, 2, after_due_date) {
   Table t = long_run_table();
   for (int e = 1; e <= kLongRunCollisions; ++e) {
     Collision got{};
@@ -781,18 +782,18 @@ void run_against_oracle(bool crowded, int systems, int steps) {
   }
 }
 
-TEST(Propagate, MatchesIndependentStepOnRandomTables) {
+GRADED_TEST(Propagate, MatchesIndependentStepOnRandomTables, 3, after_due_date) {
   // 50 tables: n = 1..30, R from 1 to 250, area fractions 1% to 30%, speeds 0.01 to 40,
   // some with half the circles at rest; 100 steps each.
   run_against_oracle(false, 50, 100);
 }
 
-TEST(Propagate, MatchesIndependentStepOnCrowdedTables) {
+GRADED_TEST(Propagate, MatchesIndependentStepOnCrowdedTables, 3, after_due_date) {
   // 20 tables with 20 to 50 circles filling 25% to 32% of the table: mostly circle collisions.
   run_against_oracle(true, 20, 100);
 }
 
-TEST(Propagate, MatchesIndependentStepThroughSimultaneousCollisions) {
+GRADED_TEST(Propagate, MatchesIndependentStepThroughSimultaneousCollisions, 2, after_due_date) {
   // Symmetric tables where several events happen at the same moment (up to rounding). Either
   // order is right; the oracle accepts every event within 1e-9 of the earliest, and the
   // events left over must then happen at time ~0. (The tables avoid touching pairs that slide

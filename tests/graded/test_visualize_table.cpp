@@ -4,6 +4,7 @@
 // any position of the table's centre and a flipped y axis are accepted. The coordinates come
 // from the test fixtures, never from the student's init_billiard.
 #include "support/fixtures.hpp"
+#include "support/graded.hpp"
 #include "support/student_messages.hpp"
 #include "support/svg_reader.hpp"
 
@@ -108,7 +109,7 @@ const SvgCircle* find_table(const SvgDocument& picture, const Table& t) {
 
 // --- The file --------------------------------------------------------------------------------
 
-TEST(VisualizeTable, WritesAnSvgFile) {
+GRADED_TEST(VisualizeTable, WritesAnSvgFile, 2, visible) {
   const Table t{10, 1, 3, 5};
   const Coordinates coordinates = scattered_circles(t.R, t.a, t.n, t.seed);
   ScratchFolder folder;
@@ -123,7 +124,7 @@ TEST(VisualizeTable, WritesAnSvgFile) {
 
 // Without xmlns="http://www.w3.org/2000/svg" on <svg>, a browser shows the file as plain XML
 // text instead of a picture.
-TEST(VisualizeTable, SvgDeclaresTheSvgNamespace) {
+GRADED_TEST(VisualizeTable, SvgDeclaresTheSvgNamespace, 2, after_due_date) {
   const Table t{10, 1, 3, 5};
   const auto picture = draw_and_read(t, scattered_circles(t.R, t.a, t.n, t.seed));
   if (!picture) return;
@@ -138,7 +139,7 @@ TEST(VisualizeTable, SvgDeclaresTheSvgNamespace) {
       "write <svg xmlns=\"http://www.w3.org/2000/svg\" ...>");
 }
 
-TEST(VisualizeTable, DrawsTheTableAndOneCirclePerDisc) {
+GRADED_TEST(VisualizeTable, DrawsTheTableAndOneCirclePerDisc, 2, visible) {
   for (const Table& t : {Table{10, 1, 0, 1}, Table{10, 1, 1, 2}, Table{10, 1, 10, 3}}) {
     const auto picture = draw_and_read(t, scattered_circles(t.R, t.a, t.n, t.seed));
     if (!picture) return;
@@ -156,7 +157,7 @@ TEST(VisualizeTable, DrawsTheTableAndOneCirclePerDisc) {
 
 // --- Geometry --------------------------------------------------------------------------------
 
-TEST(VisualizeTable, DiscsHaveTheCircleRadiusAtTheTableScale) {
+GRADED_TEST(VisualizeTable, DiscsHaveTheCircleRadiusAtTheTableScale, 2, after_due_date) {
   for (const Table& t : kTables) {
     const auto picture = draw_and_read(t, scattered_circles(t.R, t.a, t.n, t.seed));
     if (!picture) return;
@@ -185,7 +186,7 @@ TEST(VisualizeTable, DiscsHaveTheCircleRadiusAtTheTableScale) {
   }
 }
 
-TEST(VisualizeTable, DiscCentresAreAtTheCoordinates) {
+GRADED_TEST(VisualizeTable, DiscCentresAreAtTheCoordinates, 3, after_due_date) {
   for (const Table& t : kTables) {
     const Coordinates coordinates = scattered_circles(t.R, t.a, t.n, t.seed);
     const auto picture = draw_and_read(t, coordinates);
@@ -253,7 +254,7 @@ TEST(VisualizeTable, DiscCentresAreAtTheCoordinates) {
 // --- Files -----------------------------------------------------------------------------------
 
 // Drawing into an existing, longer file must replace it, not append to it or leave its end.
-TEST(VisualizeTable, OverwritesAnExistingFile) {
+GRADED_TEST(VisualizeTable, OverwritesAnExistingFile, 2, after_due_date) {
   const Table t{10, 1, 3, 6};
   const Coordinates coordinates = scattered_circles(t.R, t.a, t.n, t.seed);
   ScratchFolder folder;
@@ -278,7 +279,7 @@ TEST(VisualizeTable, OverwritesAnExistingFile) {
       text("the file has ", circles.size(), " circles"), hint);
 }
 
-TEST(VisualizeTable, ReportsAFileThatCannotBeWritten) {
+GRADED_TEST(VisualizeTable, ReportsAFileThatCannotBeWritten, 2, after_due_date) {
   const Table t{10, 1, 3, 7};
   const Coordinates coordinates = scattered_circles(t.R, t.a, t.n, t.seed);
   ScratchFolder folder;
@@ -315,7 +316,7 @@ void expect_rejected(double R, double a, int n, const Coordinates& coordinates, 
   expect_invalid_argument([&] { visualize_table(R, a, n, coordinates, file); }, situation, argument, hint);
 }
 
-TEST(VisualizeTable, RejectsTableRadiusThatIsNotPositiveAndFinite) {
+GRADED_TEST(VisualizeTable, RejectsTableRadiusThatIsNotPositiveAndFinite, 1, after_due_date) {
   const Coordinates coordinates = scattered_circles(10, 1, 3, 8);
   for (const double R : {0.0, -10.0, kNaN, kInf}) {
     expect_rejected(R, 1, 3, coordinates, text("table_radius = ", R), "table_radius",
@@ -324,7 +325,7 @@ TEST(VisualizeTable, RejectsTableRadiusThatIsNotPositiveAndFinite) {
   }
 }
 
-TEST(VisualizeTable, RejectsCircleRadiusThatIsNotPositiveAndFinite) {
+GRADED_TEST(VisualizeTable, RejectsCircleRadiusThatIsNotPositiveAndFinite, 1, after_due_date) {
   const Coordinates coordinates = scattered_circles(10, 1, 3, 8);
   for (const double a : {0.0, -1.0, kNaN, -kInf}) {
     expect_rejected(10, a, 3, coordinates, text("circle_radius = ", a), "circle_radius",
@@ -333,7 +334,7 @@ TEST(VisualizeTable, RejectsCircleRadiusThatIsNotPositiveAndFinite) {
   }
 }
 
-TEST(VisualizeTable, RejectsCircleRadiusNotSmallerThanTableRadius) {
+GRADED_TEST(VisualizeTable, RejectsCircleRadiusNotSmallerThanTableRadius, 1, after_due_date) {
   const Coordinates coordinates = Coordinates::Zero(1, 2);
   for (const double a : {10.0, 15.0}) {
     expect_rejected(10, a, 1, coordinates, text("circle_radius = ", a, " >= table_radius = 10 with n = 1"),
@@ -343,7 +344,7 @@ TEST(VisualizeTable, RejectsCircleRadiusNotSmallerThanTableRadius) {
   }
 }
 
-TEST(VisualizeTable, RejectsCoordinatesWithWrongRowCount) {
+GRADED_TEST(VisualizeTable, RejectsCoordinatesWithWrongRowCount, 1, after_due_date) {
   struct Case {
     int n;
     int rows;
@@ -356,7 +357,7 @@ TEST(VisualizeTable, RejectsCoordinatesWithWrongRowCount) {
   }
 }
 
-TEST(VisualizeTable, RejectsNegativeNumberOfCircles) {
+GRADED_TEST(VisualizeTable, RejectsNegativeNumberOfCircles, 1, after_due_date) {
   expect_rejected(10, 1, -1, Coordinates(0, 2), "n = -1", "n",
                   "check n >= 0 at the start and throw std::invalid_argument naming n otherwise");
 }

@@ -1,10 +1,25 @@
-// main() of every graded suite. Runs GoogleTest as usual; with --expect-not-implemented it
-// instead checks the untouched stubs: it succeeds only if every test failed, and each failed
-// with the stub's "not implemented yet" error (so no test can pass without the student's code).
+// main() of every graded suite. Runs GoogleTest as usual, plus three modes:
+//
+//   --list-graded           print each test's points and visibility as one JSON object per
+//                           line, for the grader; fail if some test carries no points.
+//   --graded-result=PATH    after the tests, write "<token> passed" or "<token> failed" to
+//                           PATH, where <token> is the secret the grader passes in the
+//                           environment variable BILLIARD_GRADER_TOKEN. The variable is wiped
+//                           before any test runs, so code under test cannot forge the line; a
+//                           test that exits early, crashes or hangs writes nothing (no points).
+//   --expect-not-implemented
+//                           check the untouched stubs: succeed only if every test failed, and
+//                           each with the stub's "not implemented yet" error (so no test can
+//                           pass without the student's code).
+#include "support/graded.hpp"
+
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <iostream>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -47,18 +62,71 @@ class StubChecker : public ::testing::EmptyTestEventListener {
   std::vector<std::string> problems_;
 };
 
+// Prints the graded tests as JSON lines; false if a test of the binary has no points or a
+// registration names no test.
+bool list_graded() {
+  std::set<std::string> in_binary;
+  const auto* unit = ::testing::UnitTest::GetInstance();
+  for (int i = 0; i < unit->total_test_suite_count(); ++i) {
+    const auto* suite = unit->GetTestSuite(i);
+    for (int j = 0; j < suite->total_test_count(); ++j) {
+      in_binary.insert(std::string(suite->name()) + "." + suite->GetTestInfo(j)->name());
+    }
+  }
+  bool ok = true;
+  std::set<std::string> graded;
+  for (const auto& test : billiard::testing::graded_tests()) {
+    graded.insert(test.name);
+    std::cout << "{\"test\": \"" << test.name << "\", \"points\": " << test.points << ", \"visibility\": \""
+              << billiard::testing::to_string(test.visibility) << "\"}\n";
+    if (!in_binary.count(test.name)) ok = false;
+  }
+  for (const auto& name : in_binary) {
+    if (!graded.count(name)) {
+      std::cerr << "graded suite: " << name << " has no points; declare it with GRADED_TEST\n";
+      ok = false;
+    }
+  }
+  return ok;
+}
+
+// Reads and wipes the grader's secret, so that code under test cannot find it in the
+// environment.
+std::string take_grader_token() {
+  char* value = std::getenv("BILLIARD_GRADER_TOKEN");
+  if (value == nullptr) return "";
+  std::string token = value;
+  std::memset(value, 0, std::strlen(value));
+  unsetenv("BILLIARD_GRADER_TOKEN");
+  return token;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  const std::string token = take_grader_token();
   ::testing::InitGoogleTest(&argc, argv);
-  bool expect_not_implemented = false;
+  bool expect_not_implemented = false, list = false;
+  std::string result_path;
   for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--expect-not-implemented") == 0) expect_not_implemented = true;
+    const std::string argument = argv[i];
+    if (argument == "--expect-not-implemented") expect_not_implemented = true;
+    if (argument == "--list-graded") list = true;
+    if (argument.rfind("--graded-result=", 0) == 0) result_path = argument.substr(16);
   }
-  if (!expect_not_implemented) return RUN_ALL_TESTS();
-
-  auto* checker = new StubChecker;  // owned by GoogleTest's listener list
-  ::testing::UnitTest::GetInstance()->listeners().Append(checker);
-  RUN_ALL_TESTS();
-  return checker->report() ? 0 : 1;
+  if (list) return list_graded() ? 0 : 1;
+  if (expect_not_implemented) {
+    auto* checker = new StubChecker;  // owned by GoogleTest's listener list
+    ::testing::UnitTest::GetInstance()->listeners().Append(checker);
+    const int ignored = RUN_ALL_TESTS();  // the checker decides, not the failures it expects
+    (void)ignored;
+    return checker->report() ? 0 : 1;
+  }
+  const int status = RUN_ALL_TESTS();
+  if (!result_path.empty()) {
+    const auto* unit = ::testing::UnitTest::GetInstance();
+    const bool passed = status == 0 && unit->Passed() && unit->test_to_run_count() > 0;
+    std::ofstream(result_path) << token << (passed ? " passed\n" : " failed\n");
+  }
+  return status;
 }
