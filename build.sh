@@ -20,6 +20,7 @@ packages=(
   cmake ninja-build g++          # the build
   libeigen3-dev                  # vectors and matrices
   libgtest-dev                   # the graded test suites
+  python3                        # the grader (tests/grader/grade.py), run as /usr/bin/python3
 )
 
 install_missing_packages() {

@@ -1,0 +1,159 @@
+#!/usr/bin/python3
+"""Tests of the grader (grade.py), run by CTest: it grades known submissions and checks the
+scores and files it writes. All scenarios share one build folder (CTest runs them one at a
+time through a resource lock), so each grading run rebuilds only what changed.
+
+    /usr/bin/python3 tests/grader/test_grader.py BUILD_FOLDER [unittest arguments]
+"""
+
+import json
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+REPO = HERE.parents[1]
+TASKS = ["init_billiard", "init_velocities", "visualize_table", "propagate", "movie", "kinetic_energy"]
+BUILD = None  # set from the command line
+
+
+def grade(submission, *options):
+    """Runs the grader on a submission folder; returns (scores, maxima, results.json, junit root, stdout)."""
+    results = Path(tempfile.mkdtemp(prefix="grader-results-"))
+    try:
+        done = subprocess.run(
+            ["/usr/bin/python3", str(HERE / "grade.py"), "--submission", str(submission), "--build", str(BUILD),
+             "--results", str(results), *options],
+            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=3000)
+        if done.returncode != 0:
+            raise AssertionError(f"grade.py failed with status {done.returncode}:\n{done.stdout[-5000:]}")
+        report = json.loads((results / "results.json").read_text())
+        junit = ET.parse(results / "junit.xml").getroot()
+    finally:
+        shutil.rmtree(results, ignore_errors=True)
+    scores = {task: 0 for task in TASKS}
+    maxima = {task: 0 for task in TASKS}
+    for test in report["tests"]:
+        task = test["name"].split(":")[0]
+        scores[task] += test["score"]
+        maxima[task] += test["max_score"]
+    return scores, maxima, report, junit, done.stdout
+
+
+def submission_from_solutions(**replacements):
+    """A temporary submission: the reference files, with some replaced by the given files."""
+    folder = Path(tempfile.mkdtemp(prefix="submission-"))
+    for task in TASKS:
+        shutil.copyfile(REPO / "solutions" / f"{task}.cpp", folder / f"{task}.cpp")
+    for task, source in replacements.items():
+        shutil.copyfile(source, folder / f"{task}.cpp")
+    return folder
+
+
+class GradesKnownSubmissions(unittest.TestCase):
+    def check_gradescope_format(self, report):
+        self.assertIsInstance(report["score"], (int, float))
+        self.assertEqual(report["score"], sum(test["score"] for test in report["tests"]))
+        for test in report["tests"]:
+            self.assertEqual(set(test) & {"name", "score", "max_score", "output", "visibility", "status"},
+                             {"name", "score", "max_score", "output", "visibility", "status"}, test)
+            self.assertIn(test["visibility"], {"visible", "hidden", "after_due_date", "after_published"})
+            self.assertIn(test["status"], {"passed", "failed"})
+            self.assertLessEqual(test["score"], test["max_score"])
+
+    def test_stubs_score_zero_in_every_task(self):
+        scores, maxima, report, junit, output = grade(REPO / "tasks")
+        self.check_gradescope_format(report)
+        self.assertEqual(scores, {task: 0 for task in TASKS})
+        self.assertTrue(all(maxima[task] > 0 for task in TASKS), maxima)
+        self.assertIn("not implemented yet", output)
+        failures = sum(int(suite.get("failures")) for suite in junit.iter("testsuite"))
+        cases = sum(1 for _ in junit.iter("testcase"))
+        self.assertEqual(failures, cases)
+
+    def test_solutions_score_full_marks(self):
+        scores, maxima, report, junit, output = grade(REPO / "solutions")
+        self.check_gradescope_format(report)
+        self.assertEqual(scores, maxima)
+        self.assertEqual(sum(int(suite.get("failures")) for suite in junit.iter("testsuite")), 0)
+        self.assertIn(f"{sum(maxima.values())} / {sum(maxima.values())}", output)
+
+    def test_hostile_submission_gains_nothing_and_stops_nothing(self):
+        hostile = {path.stem: path for path in (HERE / "hostile").glob("*.cpp")}
+        submission = submission_from_solutions(**hostile)
+        try:
+            started = time.monotonic()
+            timeout = 2
+            scores, maxima, report, _, _ = grade(submission, "--timeout", str(timeout))
+            elapsed = time.monotonic() - started
+        finally:
+            shutil.rmtree(submission)
+        self.check_gradescope_format(report)
+        for task in ["init_billiard", "init_velocities", "propagate", "kinetic_energy"]:
+            self.assertEqual(scores[task], 0, f"{task} misbehaves and must score 0")
+        for task in ["visualize_table", "movie"]:
+            self.assertEqual(scores[task], maxima[task], f"{task} is correct and must keep full points")
+        # Bounded time: the endless loops cost one time limit per test, two tests at a time.
+        propagate_tests = sum(1 for test in report["tests"] if test["name"].startswith("propagate:"))
+        self.assertLess(elapsed, 600 + propagate_tests * timeout)
+        outputs = {test["name"]: test["output"] for test in report["tests"]}
+        loop = next(text for name, text in outputs.items() if name.startswith("propagate:"))
+        self.assertIn("did not finish", loop)
+        crash = next(text for name, text in outputs.items() if name.startswith("init_velocities:"))
+        self.assertIn("SIGSEGV", crash)
+        early = next(text for name, text in outputs.items() if name.startswith("init_billiard:"))
+        self.assertIn("exit()", early)
+        self.assertTrue(all(len(text) < 10_000 for text in outputs.values()), "feedback must be capped")
+
+    def test_compile_error_costs_only_its_own_task(self):
+        broken = Path(tempfile.mkdtemp(prefix="broken-")) / "propagate.cpp"
+        broken.write_text((REPO / "solutions" / "propagate.cpp").read_text().replace("return next;", "return nxt;"))
+        submission = submission_from_solutions(propagate=broken)
+        try:
+            scores, maxima, report, _, _ = grade(submission)
+        finally:
+            shutil.rmtree(submission)
+            shutil.rmtree(broken.parent)
+        self.assertEqual(scores["propagate"], 0)
+        entry = next(test for test in report["tests"] if test["name"].startswith("propagate:"))
+        self.assertIn("nxt", entry["output"])
+        self.assertEqual(entry["max_score"], maxima["propagate"])
+        self.assertGreater(maxima["propagate"], 0)
+        for task in TASKS:
+            if task != "propagate":
+                self.assertEqual(scores[task], maxima[task], task)
+
+
+class Mutants(unittest.TestCase):
+    def test_every_mutant_loses_points_only_in_its_own_task(self):
+        mutants = sorted((REPO / "tests" / "mutants").glob("*/*.cpp"))
+        self.assertGreaterEqual(len(mutants), 20)
+        problems = []
+        for mutant in mutants:
+            task = mutant.parent.name
+            submission = submission_from_solutions(**{task: mutant})
+            try:
+                scores, maxima, _, _, _ = grade(submission, "--brief")
+            finally:
+                shutil.rmtree(submission)
+            line = f"{task}/{mutant.name}: " + ", ".join(f"{t} {scores[t]}/{maxima[t]}" for t in TASKS)
+            print(line, flush=True)
+            if scores[task] >= maxima[task]:
+                problems.append(f"{task}/{mutant.name} keeps full points in {task}")
+            for other in TASKS:
+                if other != task and scores[other] != maxima[other]:
+                    problems.append(f"{task}/{mutant.name} costs points in {other}")
+        self.assertEqual(problems, [])
+
+
+if __name__ == "__main__":
+    if len(sys.argv) < 2:
+        print(__doc__)
+        sys.exit(2)
+    BUILD = Path(sys.argv.pop(1)).resolve()
+    unittest.main(verbosity=2)
