@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# The project's two commands (see README.md):
+# The project's commands (see README.md; run and test are the quick start's two):
 #   ./build.sh run  [TABLE_RADIUS CIRCLE_RADIUS N] [billiard options]   build, then run `billiard`
 #   ./build.sh test [ctest options]                                     build, then run every test
-# Both first install the Debian packages the build needs (only the missing ones), then configure
+#   ./build.sh grade [grader options]       grade tasks/ per task, as the graders do (--help)
+# Each first installs the Debian packages the build needs (only the missing ones), then configure
 # and build with CMake. Set BILLIARD_PRESET to use another preset from CMakePresets.json
 # (default: "release", the reference solutions, where solutions/ exists; else "tasks").
 set -euo pipefail
@@ -12,7 +13,7 @@ if [ -z "${BILLIARD_PRESET:-}" ]; then
 fi
 
 usage() {
-  sed -n '2,7p' "$0" | sed 's/^# \{0,1\}//'
+  sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'
 }
 
 # Debian packages, by what needs them. Names are apt-get names: there is no PyPI here.
@@ -62,6 +63,10 @@ case "$command" in
     install_missing_packages
     build
     exec ctest --preset "$BILLIARD_PRESET" "$@"
+    ;;
+  grade)
+    install_missing_packages
+    exec /usr/bin/python3 tests/grader/grade.py "$@"
     ;;
   -h|--help|help)
     usage

@@ -138,7 +138,8 @@ class Mutants(unittest.TestCase):
             task = mutant.parent.name
             submission = submission_from_solutions(**{task: mutant})
             try:
-                scores, maxima, _, _, _ = grade(submission, "--brief")
+                # Unchanged suites (all but the mutant's own) are remembered, not run again.
+                scores, maxima, _, _, _ = grade(submission, "--brief", "--cache", str(BUILD.parent / "grader-cache"))
             finally:
                 shutil.rmtree(submission)
             line = f"{task}/{mutant.name}: " + ", ".join(f"{t} {scores[t]}/{maxima[t]}" for t in TASKS)
