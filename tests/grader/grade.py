@@ -109,7 +109,7 @@ class Build:
         command = [
             "cmake", "-S", str(REPO), "-B", str(self.folder), "-G", "Ninja", "-DCMAKE_BUILD_TYPE=Release",
             "-DBILLIARD_COURSE=" + ("solutions" if self.dependencies == "reference" else "tasks"),
-            "-DBILLIARD_CHECK_STUBS=OFF", f"-DBILLIARD_SUBMISSION={self.submission}",
+            "-DBILLIARD_CHECK_STUBS=OFF", "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON", f"-DBILLIARD_SUBMISSION={self.submission}",
             f"-DBILLIARD_GRADE_DEPENDENCIES={self.dependencies}", "-DBILLIARD_STUBBED_TASKS=" + ";".join(stubbed),
         ]
         ok, output = run_quietly(command, timeout=600)
@@ -122,6 +122,50 @@ class Build:
 
     def executable(self, name):
         return self.folder / "tests" / "grader" / name
+
+
+def preprocess_as(sandbox, build, tasks):
+    """Expands each submitted file's #include lines as the unprivileged user, in place.
+
+    With the reference solutions made unreadable to that user (--protect-reference), a file
+    that tries `#include "../solutions/propagate.cpp"` (or any other file the user may not read)
+    fails here, and the later compilation, as the grader, sees no #include left to follow.
+    Returns {task: message} for the files that fail.
+    """
+    commands = {Path(entry["file"]).name: entry for entry in
+                json.loads((build.folder / "compile_commands.json").read_text())
+                if Path(entry["file"]).parent == build.submission}
+    problems = {}
+    for task in tasks:
+        source = build.submission / f"{task}.cpp"
+        if not source.is_file() or source.name not in commands:
+            continue
+        work = Path(tempfile.mkdtemp(prefix="preprocess-"))
+        os.chmod(work, 0o755)
+        sandbox.own(work)
+        shutil.copyfile(source, work / source.name)
+        sandbox.own(work / source.name)
+        words = commands[source.name]["command"].split()
+        flags = []  # the include paths, language standard and macros of the real compilation
+        for at, word in enumerate(words[1:-1], start=1):
+            if word.startswith(("-I", "-std", "-D")):
+                flags.append(word)
+            elif word == "-isystem":
+                flags += [word, words[at + 1]]
+        command = [words[0], *flags, "-E", source.name, "-o", "expanded.cpp"]
+        try:
+            done = subprocess.run(command, cwd=work, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                  errors="replace", timeout=build.compile_timeout, preexec_fn=sandbox.prepare)
+            if done.returncode == 0:
+                shutil.copyfile(work / "expanded.cpp", source)
+            else:
+                problems[task] = f"{task}.cpp does not compile:\n" + cap(done.stdout.replace(str(work) + "/", ""),
+                                                                         COMPILER_CAP)
+        except subprocess.TimeoutExpired:
+            problems[task] = f"{task}.cpp does not compile: the preprocessor did not finish in time"
+        finally:
+            shutil.rmtree(work, ignore_errors=True)
+    return problems
 
 
 def compile_submission(build, tasks):
@@ -422,6 +466,10 @@ def parse_arguments(argv):
     parser.add_argument("--compile-timeout", type=float, default=300.0, help="seconds per file (default 300)")
     parser.add_argument("--jobs", type=int, default=2, help="tests run at once (default 2)")
     parser.add_argument("--user", help="run tests as this user (default: 'nobody' when run as root)")
+    parser.add_argument("--protect-reference", action="store_true",
+                        help="(as root, for the platforms' graders) make solutions/ and instructor-only tests "
+                             "unreadable to the test user and expand each submitted file's #include lines as that "
+                             "user, so that a submission cannot include the reference code")
     parser.add_argument("--brief", action="store_true", help="list failing tests without their messages")
     parser.add_argument("--require-full", action="store_true",
                         help="exit with status 1 unless every graded task has full points (for CI graders such "
@@ -440,6 +488,8 @@ def parse_arguments(argv):
         fail("--timeout must be positive and --jobs at least 1")
     if arguments.user is None and os.geteuid() == 0:
         arguments.user = "nobody"
+    if arguments.protect_reference and not arguments.user:
+        fail("--protect-reference needs an unprivileged test user: run as root, or give --user")
     if arguments.user:
         try:
             pwd.getpwnam(arguments.user)
@@ -467,7 +517,20 @@ def grade(arguments):
     print(f"grade: building the graded suites ({'reference code for the other tasks' if arguments.dependencies == 'reference' else 'your code for every task'})",
           flush=True)
     build.configure(stubbed=[])
-    problems = compile_submission(build, TASKS)
+    sandbox = Sandbox(arguments.user, arguments.timeout, memory_bytes=4 << 30, file_bytes=256 << 20)
+    problems = {}
+    if arguments.protect_reference:
+        private = [path for path in [REPO / "solutions", REPO / "tests" / "graded" / "hidden", REPO / "tests" / "mutants"]
+                   if path.is_dir()]
+        modes = {path: path.stat().st_mode for path in private}
+        try:
+            for path in private:
+                os.chmod(path, 0o700)
+            problems = preprocess_as(sandbox, build, TASKS)
+        finally:
+            for path, mode in modes.items():
+                os.chmod(path, mode)
+    problems.update(compile_submission(build, [task for task in TASKS if task not in problems]))
     if problems:
         build.configure(stubbed=sorted(problems))
     for task in tasks:
@@ -490,7 +553,6 @@ def grade(arguments):
         results.append(result)
 
     # Run every test of every task in its own process, a few at a time.
-    sandbox = Sandbox(arguments.user, arguments.timeout, memory_bytes=4 << 30, file_bytes=256 << 20)
     scratch = Path(tempfile.mkdtemp(prefix="billiard-grade-"))
     os.chmod(scratch, 0o755)
     jobs = [(test, build.executable(f"grade_{test.task}")) for result in results for test in result.tests]

@@ -7,6 +7,7 @@ time through a resource lock), so each grading run rebuilds only what changed.
 """
 
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -127,6 +128,25 @@ class GradesKnownSubmissions(unittest.TestCase):
         for task in TASKS:
             if task != "propagate":
                 self.assertEqual(scores[task], maxima[task], task)
+
+
+    @unittest.skipUnless(os.geteuid() == 0, "needs root to run the submission as another user")
+    def test_including_the_reference_solution_gains_nothing(self):
+        cheat = Path(tempfile.mkdtemp(prefix="cheat-"))
+        (cheat / "propagate.cpp").write_text(f'#include "{REPO}/solutions/propagate.cpp"\n')
+        (cheat / "kinetic_energy.cpp").write_text('#include "../../../../solutions/kinetic_energy.cpp"\n')
+        submission = submission_from_solutions(propagate=cheat / "propagate.cpp",
+                                               kinetic_energy=cheat / "kinetic_energy.cpp")
+        try:
+            scores, maxima, report, _, _ = grade(submission, "--protect-reference", "--task", "propagate",
+                                                 "--task", "kinetic_energy", "--task", "movie")
+        finally:
+            shutil.rmtree(submission)
+            shutil.rmtree(cheat)
+        self.assertEqual(scores["propagate"], 0)
+        self.assertEqual(scores["kinetic_energy"], 0)
+        self.assertEqual(scores["movie"], maxima["movie"])
+        self.assertEqual(oct((REPO / "solutions").stat().st_mode & 0o777), "0o755", "permissions are restored")
 
 
 class Mutants(unittest.TestCase):
