@@ -166,6 +166,38 @@ GRADED_TEST(InitBilliard, DenseTablesAreFilled, 3, after_due_date) {
   }
 }
 
+GRADED_TEST(InitBilliard, DenseTablesAreNotARegularArrangement, 2, after_due_date) {
+  // In a random table the distance from each circle to its nearest neighbour varies from circle
+  // to circle; on a lattice (with some sites left empty) it takes only a few values. Count the
+  // distinct nearest-neighbour distances (to 1e-6): a random table of 50 circles has about 50,
+  // a lattice at most 3 or so. Half of n leaves a wide margin.
+  const Table t{10, 1, 50};
+  for (const std::uint64_t seed : {1, 2, 3}) {
+    const Coordinates c = place(t, seed);
+    if (!check_shape(c, t, seed)) return;
+    std::vector<long long> nearest;
+    for (int i = 0; i < t.n; ++i) {
+      double best = std::numeric_limits<double>::infinity();
+      for (int j = 0; j < t.n; ++j) {
+        if (j != i) best = std::min(best, (c.row(i) - c.row(j)).norm());
+      }
+      nearest.push_back(std::llround(best * 1e6));
+    }
+    std::sort(nearest.begin(), nearest.end());
+    const auto distinct = std::unique(nearest.begin(), nearest.end()) - nearest.begin();
+    if (distinct < t.n / 2) {
+      ADD_FAILURE() << explain(
+          text(call(t, seed), " (area fraction 0.5) to place the circles at random, so that the distances "
+               "from each circle to its nearest neighbour vary (at least ", t.n / 2, " different values)"),
+          text("only ", distinct, " different nearest-neighbour distances: the circles sit on a regular grid"),
+          "starting from a lattice is fine for dense tables, but then move the circles at random (many small "
+          "random moves, each kept only if the circle stays inside and overlaps nobody) until the grid is "
+          "forgotten");
+      return;
+    }
+  }
+}
+
 // --- Randomness ------------------------------------------------------------------------------
 
 GRADED_TEST(InitBilliard, SameSeedGivesTheSameTable, 2, after_due_date) {

@@ -524,6 +524,28 @@ GRADED_TEST(Propagate, CircleOnTheWallMovingOutwardByRoundingReflects, 2, after_
   }
 }
 
+GRADED_TEST(Propagate, ApproachingPairOverlappingByRoundingCollidesAtOnce, 2, after_due_date) {
+  // Two circles touching up to rounding (centres a hair closer than 2a, as after a collision
+  // computed in floating point) and moving towards each other must collide now, at t = 0: the
+  // first-contact root c / (-b + sqrt(b^2 - dv.dv c)) is then a tiny negative number.
+  const double R = 10, a = 1;
+  Table t{R, a, Coordinates(2, 2), Velocities(2, 2)};
+  t.c << 0, 0, std::nextafter(2.0, 0.0), 0;
+  t.v << 1, 0, -1, 0;
+  Collision got{};
+  if (!checked_step(t, got, "two circles touching up to rounding and approaching")) return;
+  const bool exchanged = std::abs(t.v(0, 0) + 1) < 1e-12 && std::abs(t.v(1, 0) - 1) < 1e-12;
+  if (!is_pair(got, 0, 1) || !(got.time >= 0 && got.time <= 1e-12) || !exchanged) {
+    ADD_FAILURE() << explain(
+        "circles at (0, 0) and (2 - 2e-16, 0) with velocities (1, 0) and (-1, 0) (radius 1) to collide at "
+        "time 0 and leave with velocities (-1, 0) and (1, 0)",
+        text("returned ", describe(got), ", velocities afterwards ", row(t.v, 0), " and ", row(t.v, 1)),
+        "when two approaching circles already touch (c = |dr|^2 - (2a)^2 is a hair below 0 by rounding), the "
+        "first-contact time comes out slightly negative: treat it as 0 (collide now) instead of skipping the "
+        "pair, or they pass through each other");
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // 6. Invalid input.
 

@@ -17,6 +17,7 @@
 #include <fstream>
 #include <limits>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -156,6 +157,47 @@ GRADED_TEST(VisualizeTable, DrawsTheTableAndOneCirclePerDisc, 2, visible) {
 }
 
 // --- Geometry --------------------------------------------------------------------------------
+
+GRADED_TEST(VisualizeTable, TheWholeTableIsInThePicture, 2, after_due_date) {
+  // A browser shows the rectangle of the viewBox ("min-x min-y width height"); without one it
+  // shows user coordinates from (0, 0) on, up to width and height if given. The table circle
+  // must lie inside, up to 2% of its diameter (for a stroke drawn on its edge).
+  const Table t{10, 1, 10, 7};
+  const auto picture = draw_and_read(t, scattered_circles(t.R, t.a, t.n, t.seed));
+  if (!picture) return;
+  const SvgCircle* table = find_table(*picture, t);
+  if (!table) return;
+  double left = 0, top = 0, width = std::numeric_limits<double>::infinity(), height = width;
+  std::string shown = "no viewBox: user coordinates from (0, 0) on";
+  const auto& root = picture->root_attributes;
+  if (const auto view_box = root.find("viewBox"); view_box != root.end()) {
+    std::string numbers = view_box->second;
+    std::replace(numbers.begin(), numbers.end(), ',', ' ');
+    std::istringstream in(numbers);
+    if (!(in >> left >> top >> width >> height) || !(width > 0) || !(height > 0)) {
+      ADD_FAILURE() << explain(text(call(t), " to write a valid viewBox=\"min-x min-y width height\""),
+                               text("viewBox=\"", view_box->second, "\""),
+                               "write four numbers, e.g. viewBox=\"-11 -11 22 22\" for a table of radius 10");
+      return;
+    }
+    shown = text("viewBox=\"", view_box->second, "\"");
+  } else {
+    if (root.count("width")) width = parse_length(root.at("width"), "the width of <svg>");
+    if (root.count("height")) height = parse_length(root.at("height"), "the height of <svg>");
+  }
+  const double slack = 0.02 * 2 * table->radius;
+  const bool inside = table->x - table->radius >= left - slack && table->y - table->radius >= top - slack &&
+                      table->x + table->radius <= left + width + slack &&
+                      table->y + table->radius <= top + height + slack;
+  if (!inside) {
+    ADD_FAILURE() << explain(
+        text(call(t), " to show the whole table: the table circle (centre (", table->x, ", ", table->y,
+             "), radius ", table->radius, ") inside the visible area"),
+        text("the visible area is ", shown, ", so part of the table is cut off"),
+        "with the table centred at (0, 0), choose viewBox=\"-R-m -R-m 2R+2m 2R+2m\" (a margin m), e.g. "
+        "\"-11 -11 22 22\" for R = 10; a viewBox starting at 0 0 shows only one quarter of it");
+  }
+}
 
 GRADED_TEST(VisualizeTable, DiscsHaveTheCircleRadiusAtTheTableScale, 2, after_due_date) {
   for (const Table& t : kTables) {
