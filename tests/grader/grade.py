@@ -505,13 +505,22 @@ def grade(arguments):
     grading.mkdir(parents=True, exist_ok=True)
 
     # Only the task files are taken from the submission, into a folder of the grader's own.
+    # A file whose content is unchanged since the last run is left alone, so the build does not
+    # compile it again.
     staged = grading / "submission"
-    shutil.rmtree(staged, ignore_errors=True)
-    staged.mkdir(parents=True)
+    staged.mkdir(parents=True, exist_ok=True)
     for task in TASKS:
-        source = arguments.submission / f"{task}.cpp"
+        source, target = arguments.submission / f"{task}.cpp", staged / f"{task}.cpp"
+        previous = grading / "previous" / f"{task}.cpp"  # the submitted text behind `target`
         if source.is_file() and source.stat().st_size < 1_000_000:
-            shutil.copyfile(source, staged / f"{task}.cpp")
+            text = source.read_bytes()
+            if not (target.is_file() and previous.is_file() and previous.read_bytes() == text):
+                previous.parent.mkdir(exist_ok=True)
+                previous.write_bytes(text)
+                target.write_bytes(text)
+        else:
+            target.unlink(missing_ok=True)
+            previous.unlink(missing_ok=True)
 
     build = Build(arguments.build, staged, arguments.dependencies, arguments.compile_timeout)
     print(f"grade: building the graded suites ({'reference code for the other tasks' if arguments.dependencies == 'reference' else 'your code for every task'})",
