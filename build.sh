@@ -3,6 +3,8 @@
 #   ./build.sh run  [TABLE_RADIUS CIRCLE_RADIUS N] [billiard options]   build, then run `billiard`
 #   ./build.sh test [ctest options]                                     build, then run every test
 #   ./build.sh grade [grader options]       grade tasks/ per task, as the graders do (--help)
+#   ./build.sh setup                        only install the missing Debian packages (the graders'
+#                                           setup; root or sudo)
 # Each first installs the Debian packages the build needs (only the missing ones), then configure
 # and build with CMake. Set BILLIARD_PRESET to use another preset from CMakePresets.json
 # (default: "release", the reference solutions, where solutions/ exists; else "tasks").
@@ -13,7 +15,7 @@ if [ -z "${BILLIARD_PRESET:-}" ]; then
 fi
 
 usage() {
-  sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'
+  sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'
 }
 
 # Debian packages, by what needs them. Names are apt-get names: there is no PyPI here.
@@ -22,6 +24,7 @@ packages=(
   libeigen3-dev                  # vectors and matrices
   libgtest-dev                   # the graded test suites
   python3                        # the grader (tests/grader/grade.py), run as /usr/bin/python3
+  python3-yaml                   # the packaging tests (tests/grader/test_packages.py) read YAML
 )
 
 install_missing_packages() {
@@ -67,6 +70,9 @@ case "$command" in
   grade)
     install_missing_packages
     exec /usr/bin/python3 tests/grader/grade.py "$@"
+    ;;
+  setup)
+    install_missing_packages
     ;;
   -h|--help|help)
     usage

@@ -525,7 +525,8 @@ def grade(arguments):
     build = Build(arguments.build, staged, arguments.dependencies, arguments.compile_timeout)
     print(f"grade: building the graded suites ({'reference code for the other tasks' if arguments.dependencies == 'reference' else 'your code for every task'})",
           flush=True)
-    build.configure(stubbed=[])
+    # A task file that was not submitted is a stub from the start (its task scores 0).
+    build.configure(stubbed=[task for task in TASKS if not (staged / f"{task}.cpp").is_file()])
     sandbox = Sandbox(arguments.user, arguments.timeout, memory_bytes=4 << 30, file_bytes=256 << 20)
     problems = {}
     if arguments.protect_reference:

@@ -1,0 +1,372 @@
+#!/usr/bin/python3
+"""Tests of the grading platforms' packages and the student release (package.py), run by CTest.
+They build the packages, unpack them where the platforms would (a fake /autograder folder, a
+fake Autolab job folder, a checkout of the student release) and run them there as the
+platforms do, from a clean state, checking the scores they report.
+
+    /usr/bin/python3 tests/grader/test_packages.py TESTS_BUILD_FOLDER [unittest arguments]
+
+TESTS_BUILD_FOLDER is the build's tests/ folder: it holds the graded suites test_<task> (for
+each task's maximum points), and the tests work in its package-tests/ subfolder.
+"""
+
+import io
+import json
+import os
+import shutil
+import stat
+import subprocess
+import sys
+import tarfile
+import unittest
+import zipfile
+from pathlib import Path
+
+import yaml  # Debian's python3-yaml
+
+HERE = Path(__file__).resolve().parent
+REPO = HERE.parents[1]
+sys.path.insert(0, str(HERE))
+import package  # noqa: E402  (the script under test, for its lists of tasks and exclusions)
+
+TASKS = package.TASKS
+TESTS = None  # the build's tests/ folder, from the command line
+WORK = None   # TESTS / "package-tests"
+
+
+def environment(**extra):
+    """The environment for the commands under test, without settings of the caller's that would
+    change what they do."""
+    env = {key: value for key, value in os.environ.items()
+           if key not in {"BILLIARD_PRESET", "AUTOGRADER_ROOT", "MAKEFLAGS", "MAKELEVEL", "MFLAGS"}}
+    env.update(extra)
+    return env
+
+
+def run(command, cwd=None, timeout=1800, env=None, shell=False):
+    """Runs a command; returns (exit status, combined output)."""
+    done = subprocess.run(command, cwd=cwd, env=env or environment(), stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, text=True, errors="replace", timeout=timeout, shell=shell)
+    return done.returncode, done.stdout
+
+
+def package_command(*arguments):
+    status, output = run(["/usr/bin/python3", str(HERE / "package.py"), *arguments])
+    if status != 0:
+        raise AssertionError(f"package.py {' '.join(arguments)} failed with status {status}:\n{output}")
+    return output
+
+
+def fresh(folder):
+    shutil.rmtree(folder, ignore_errors=True)
+    folder.mkdir(parents=True)
+    return folder
+
+
+_points = None
+
+
+def maxima():
+    """{task: maximum points} from the built graded suites."""
+    global _points
+    if _points is None:
+        _points = package.task_points(TESTS)
+    return _points
+
+
+def scores_of(report):
+    """{task: points} from a Gradescope results.json."""
+    scores = {task: 0 for task in TASKS}
+    for test in report["tests"]:
+        scores[test["name"].split(":")[0]] += test["score"]
+    return scores
+
+
+def broken_propagate():
+    """The reference propagate.cpp with a compile error that names `nxt`."""
+    text = (REPO / "solutions" / "propagate.cpp").read_text()
+    assert "return next;" in text
+    return text.replace("return next;", "return nxt;")
+
+
+def student_release():
+    """The student release used by the StudentRelease and Classroom tests (exported if missing)."""
+    folder = WORK / "student-release"
+    if not (folder / "build.sh").is_file():
+        shutil.rmtree(folder, ignore_errors=True)
+        package_command("student-release", str(folder))
+    return folder
+
+
+class StudentRelease(unittest.TestCase):
+    def test_export_builds_and_grades_the_stubs_as_zero(self):
+        folder = WORK / "student-release"
+        shutil.rmtree(folder, ignore_errors=True)
+        package_command("student-release", str(folder))
+
+        # Nothing that gives answers away, no instructors' tools; the workflow is there.
+        for gone in ["solutions", "tests/mutants", "tests/grader/hostile", "tests/graded/hidden",
+                     "tests/grader/package.py", "tests/grader/test_packages.py", "tests/grader/test_grader.py", ".ci"]:
+            self.assertFalse((folder / gone).exists(), f"{gone} must not be in the student release")
+        for kept in ["build.sh", "tasks/propagate.cpp", "tests/grader/grade.py", "tests/graded/test_movie.cpp",
+                     package.WORKFLOW]:
+            self.assertTrue((folder / kept).is_file(), f"{kept} must be in the student release")
+        self.assertTrue(os.access(folder / "build.sh", os.X_OK))
+        for path in ["tests/graded/hidden/test_secret.cpp", "tests/mutants/propagate/off_by_one.cpp",
+                     "solutions/movie.cpp", "tests/grader/hostile/propagate.cpp"]:
+            self.assertTrue(package.excluded(path, package.ALWAYS_EXCLUDED + package.STUDENT_EXCLUDED), path)
+        readme = (folder / "README.md").read_text()
+        for word in ["solutions", "instructors", "mutants", "package.py", "hostile"]:
+            self.assertNotIn(word, readme, "the student README must not keep the instructors' parts")
+        for heading in ["## Quick start", "## The six tasks", "## Your grade", "## The `billiard` command"]:
+            self.assertIn(heading, readme)
+        self.assertEqual((folder / "tasks" / "propagate.cpp").read_bytes(), (REPO / "tasks" / "propagate.cpp").read_bytes())
+
+        # A git repository with one commit holding every file.
+        status, log = run(["git", "-C", str(folder), "log", "--oneline"])
+        self.assertEqual((status, len(log.splitlines())), (0, 1), log)
+        status, dirty = run(["git", "-C", str(folder), "status", "--porcelain"])
+        self.assertEqual((status, dirty), (0, ""))
+
+        # The command builds from the student's tasks/ and names the task to work on.
+        status, output = run(["./build.sh", "run"], cwd=folder)
+        self.assertEqual(status, 1, output)
+        self.assertIn("not implemented yet", output)
+        self.assertTrue((folder / "build" / "tasks" / "billiard").is_file())
+        self.assertFalse((folder / "build" / "release").exists())
+
+        # The tests build and run (the tasks preset is the default): one suite here, and every
+        # suite in the grader's build below.
+        status, output = run(["cmake", "--build", "--preset", "tasks", "--target", "test_visualize_table"], cwd=folder)
+        self.assertEqual(status, 0, output)
+        status, output = run(["ctest", "--preset", "tasks", "-L", "visualize_table"], cwd=folder)
+        self.assertNotEqual(status, 0, "the stubs cannot pass")
+        self.assertIn("not implemented yet", output)
+        self.assertIn("tests failed out of", output)
+
+        # Local grading: the student's own code for every task; the stubs score 0 everywhere.
+        status, output = run(["./build.sh", "grade", "--brief"], cwd=folder)
+        self.assertEqual(status, 0, output)
+        self.assertIn("your code for every task", output)
+        report = json.loads((folder / "build" / "grade" / "results" / "results.json").read_text())
+        self.assertEqual(scores_of(report), {task: 0 for task in TASKS})
+        self.assertEqual({task: sum(t["max_score"] for t in report["tests"] if t["name"].startswith(task + ":"))
+                          for task in TASKS}, maxima())
+
+
+class Classroom(unittest.TestCase):
+    def test_committed_workflow_is_the_generated_one(self):
+        status, output = run(["/usr/bin/python3", str(HERE / "package.py"), "classroom", "--tests", str(TESTS), "--check"])
+        self.assertEqual(status, 0, output)
+
+    def workflow_steps(self, folder):
+        workflow = yaml.safe_load((folder / package.WORKFLOW).read_text())
+        steps = workflow["jobs"]["run-autograding-tests"]["steps"]
+        graders = [step for step in steps if step.get("uses") == "classroom-resources/autograding-command-grader@v1"]
+        reporter = steps[-1]
+        self.assertEqual(reporter["uses"], "classroom-resources/autograding-grading-reporter@v1")
+        self.assertEqual(reporter["with"]["runners"].split(","), [step["id"] for step in graders])
+        self.assertEqual(reporter["env"], {f"{step['id'].upper()}_RESULTS": f"${{{{steps.{step['id']}.outputs.result}}}}"
+                                           for step in graders})
+        self.assertEqual(len(graders), len(TASKS))
+        for task, step in zip(TASKS, graders):
+            self.assertIn(f"--task {task} ", step["with"]["command"] + " ")
+            self.assertIn("--require-full", step["with"]["command"])
+            self.assertEqual(step["with"]["max-score"], maxima()[task])
+        self.assertEqual(len({step["with"]["test-name"] for step in graders}), len(TASKS))
+        return graders
+
+    def run_steps(self, folder, graders):
+        """Runs every step as the command grader does: its setup command, then its command."""
+        statuses = []
+        for step in graders:
+            inputs = step["with"]
+            timeout = float(inputs.get("timeout", 10)) * 60
+            status, output = run(inputs["setup-command"], cwd=folder, timeout=timeout, shell=True)
+            self.assertEqual(status, 0, output)
+            status, output = run(inputs["command"], cwd=folder, timeout=timeout, shell=True)
+            self.assertIn(status, {0, 1}, output)  # graded (not a crash of the grader)
+            report = json.loads((folder / "build" / "grade" / "results" / "results.json").read_text())
+            task = inputs["command"].split("--task ")[1].split()[0]
+            self.assertEqual(scores_of(report)[task] == maxima()[task], status == 0, output)
+            statuses.append(status)
+            print(f"{inputs['test-name']}: exit status {status}", flush=True)
+        return statuses
+
+    def test_steps_fail_on_the_stubs_and_pass_on_the_solutions(self):
+        # The student's checkout: the stubs, with the solutions of two tasks that need no other
+        # task (each step recompiles every file, so one round of steps proves both outcomes).
+        folder = student_release()
+        graders = self.workflow_steps(folder)
+        solved = {"visualize_table", "kinetic_energy"}
+        try:
+            for task in TASKS:
+                source = REPO / ("solutions" if task in solved else "tasks") / f"{task}.cpp"
+                shutil.copyfile(source, folder / "tasks" / f"{task}.cpp")
+            self.assertEqual(self.run_steps(folder, graders), [0 if task in solved else 1 for task in TASKS])
+        finally:
+            for task in TASKS:
+                shutil.copyfile(REPO / "tasks" / f"{task}.cpp", folder / "tasks" / f"{task}.cpp")
+
+
+def unzip(archive_path, folder):
+    """Unpacks a zip as unzip does, with the permissions it records."""
+    with zipfile.ZipFile(archive_path) as archive:
+        for info in archive.infolist():
+            target = folder / info.filename
+            target.parent.mkdir(parents=True, exist_ok=True)
+            target.write_bytes(archive.read(info))
+            mode = info.external_attr >> 16
+            if mode:
+                os.chmod(target, stat.S_IMODE(mode))
+
+
+class Gradescope(unittest.TestCase):
+    def run_autograder(self, root, submission_files):
+        """Puts the files {relative path: text} into a fresh submission folder, runs run_autograder
+        as Gradescope does; returns (results.json, output)."""
+        submission = fresh(root / "submission")
+        for path, text in submission_files.items():
+            (submission / path).parent.mkdir(parents=True, exist_ok=True)
+            (submission / path).write_text(text)
+        fresh(root / "results")
+        status, output = run([str(root / "run_autograder")], cwd=root,
+                             env=environment(AUTOGRADER_ROOT=str(root)), timeout=1800)
+        self.assertEqual(status, 0, output)
+        return json.loads((root / "results" / "results.json").read_text()), output
+
+    def test_autograder_zip_in_a_fake_autograder_folder(self):
+        base = fresh(WORK / "gradescope")
+        zip_path = base / "autograder.zip"
+        package_command("gradescope", str(zip_path))
+        with zipfile.ZipFile(zip_path) as archive:
+            names = archive.namelist()
+            modes = {info.filename: stat.S_IMODE(info.external_attr >> 16) for info in archive.infolist()}
+        for name in ["setup.sh", "run_autograder"]:
+            self.assertIn(name, names)
+            self.assertEqual(modes[name], 0o755, name)
+        self.assertIn("solutions/propagate.cpp", names)
+        self.assertIn("tests/grader/grade.py", names)
+        self.assertFalse([name for name in names if name.startswith(("build/", "tests/mutants/", ".git/"))])
+
+        # Gradescope: unpack to /autograder/source, run setup.sh there once (as root), copy
+        # run_autograder to /autograder.
+        root = base / "autograder"
+        unzip(zip_path, root / "source")
+        status, output = run([str(root / "source" / "setup.sh")], cwd=root / "source", timeout=1800)
+        self.assertEqual(status, 0, output)
+        shutil.copy2(root / "source" / "run_autograder", root / "run_autograder")
+
+        # The files in a folder, with a broken propagate, a stray copy of a task file nearer the
+        # top, and other files that must be ignored.
+        files = {f"billiard-main/tasks/{task}.cpp": (REPO / "solutions" / f"{task}.cpp").read_text() for task in TASKS}
+        files["billiard-main/tasks/propagate.cpp"] = broken_propagate()
+        # Including the reference solution does not work (the solutions are protected).
+        files["billiard-main/tasks/init_velocities.cpp"] = f'#include "{root}/source/solutions/init_velocities.cpp"\n'
+        files["init_billiard.cpp"] = "this is not C++ and must not be graded\n"
+        files["billiard-main/CMakeLists.txt"] = "message(FATAL_ERROR \"not ours\")\n"
+        files["billiard-main/tests/graded/test_propagate.cpp"] = "int main() { return 0; }\n"
+        files["billiard-main/.git/propagate.cpp"] = "hidden folders (a cloned repository's .git) are skipped\n"
+        report, output = self.run_autograder(root, files)
+        scores = scores_of(report)
+        self.assertEqual(scores["propagate"], 0, output)
+        self.assertEqual(scores["init_velocities"], 0, output)
+        for task in TASKS:
+            if task not in {"propagate", "init_velocities"}:
+                self.assertEqual(scores[task], maxima()[task], f"{task}\n{output}")
+        self.assertEqual(report["score"], sum(scores.values()))
+        compile_error = next(test for test in report["tests"] if test["name"].startswith("propagate:"))
+        self.assertIn("nxt", compile_error["output"])
+        self.assertEqual(compile_error["visibility"], "visible")
+        self.assertIn("billiard-main/tasks/init_billiard.cpp", report["output"])
+        self.assertNotIn(".git/", report["output"])
+
+        # The grader crashes: a results.json with score 0 and the error, all the same.
+        grade_py = root / "source" / "tests" / "grader" / "grade.py"
+        grade_py.rename(grade_py.with_suffix(".hidden"))
+        try:
+            report, output = self.run_autograder(root, files)
+        finally:
+            grade_py.with_suffix(".hidden").rename(grade_py)
+        self.assertEqual(report["score"], 0)
+        self.assertIn("course staff", report["output"])
+
+        # Even the driver cannot start: run_autograder's own fallback.
+        driver = root / "source" / "tests" / "grader" / "package.py"
+        driver.rename(driver.with_suffix(".hidden"))
+        try:
+            report, output = self.run_autograder(root, files)
+        finally:
+            driver.with_suffix(".hidden").rename(driver)
+        self.assertEqual(report["score"], 0)
+        self.assertIn("course staff", report["output"])
+
+
+class Autolab(unittest.TestCase):
+    def run_job(self, job, package_folder, handin=None, tar_path=None):
+        """An Autolab job: the Makefile, autograde.tar and the handin in an empty folder; `make`.
+        Returns (scores from the last line, output)."""
+        fresh(job)
+        shutil.copyfile(package_folder / "autograde-Makefile", job / "Makefile")
+        if tar_path:
+            shutil.copyfile(tar_path, job / "autograde.tar")
+        if handin:
+            shutil.copyfile(handin, job / "handin.tar")
+        status, output = run(["make"], cwd=job, timeout=1800)
+        self.assertEqual(status, 0, output)
+        last = output.rstrip("\n").splitlines()[-1]
+        scores = json.loads(last)["scores"]
+        self.assertEqual(set(scores), set(TASKS), last)
+        return scores, output
+
+    def test_autograde_package_in_a_fake_job_folder(self):
+        base = fresh(WORK / "autolab")
+        package_folder = base / "package"
+        listing = package_command("autolab", str(package_folder), "--tests", str(TESTS))
+        for task in TASKS:
+            self.assertIn(f"{task}  {maxima()[task]}", listing)
+        tar_path = package_folder / "autograde.tar"
+        with tarfile.open(tar_path) as archive:
+            names = archive.getnames()
+        self.assertIn(f"{package.AUTOLAB_FOLDER}/tests/grader/package.py", names)
+        self.assertIn(f"{package.AUTOLAB_FOLDER}/solutions/movie.cpp", names)
+        self.assertFalse([name for name in names if "/build/" in name or "/tests/mutants/" in name])
+
+        # The handin: a zip (under the handin name handin.tar) with one correct task, a broken
+        # propagate and other files; the missing tasks score 0.
+        handin = base / "handin.zip"
+        with zipfile.ZipFile(handin, "w") as archive:
+            archive.writestr("tasks/visualize_table.cpp", (REPO / "solutions" / "visualize_table.cpp").read_text())
+            archive.writestr("tasks/propagate.cpp", broken_propagate())
+            archive.writestr("tasks/notes.md", "not graded\n")
+        scores, output = self.run_job(base / "job", package_folder, handin, tar_path)
+        expected = {task: 0 for task in TASKS}
+        expected["visualize_table"] = maxima()["visualize_table"]
+        self.assertEqual(scores, expected, output)
+        self.assertIn("nxt", output)  # the compiler's message is in the feedback
+
+        # The build fails (a broken package): all zeros, as the last line.
+        broken_tar = base / "broken.tar"
+        with tarfile.open(tar_path) as source, tarfile.open(broken_tar, "w") as target:
+            for member in source.getmembers():
+                data = source.extractfile(member).read() if member.isfile() else None
+                if member.name == f"{package.AUTOLAB_FOLDER}/CMakeLists.txt":
+                    data = b"cmake_minimum_required(VERSION 3.22)\nproject(broken)\nmessage(FATAL_ERROR \"broken\")\n"
+                    member.size = len(data)
+                target.addfile(member, None if data is None else io.BytesIO(data))
+        scores, output = self.run_job(base / "job-broken", package_folder, handin, broken_tar)
+        self.assertEqual(scores, {task: 0 for task in TASKS}, output)
+        self.assertIn("course staff", output)
+
+        # No autograde.tar at all: the Makefile's own fallback.
+        scores, output = self.run_job(base / "job-empty", package_folder, handin, None)
+        self.assertEqual(scores, {task: 0 for task in TASKS}, output)
+
+
+if __name__ == "__main__":
+    if len(sys.argv) < 2:
+        print(__doc__)
+        sys.exit(2)
+    TESTS = Path(sys.argv.pop(1)).resolve()
+    WORK = TESTS / "package-tests"
+    unittest.main(verbosity=2)
