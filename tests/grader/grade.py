@@ -124,6 +124,21 @@ class Build:
         return self.folder / "tests" / "grader" / name
 
 
+def readable_copy(folder, work):
+    """A header folder inside the repository, copied into `work` (the repository may sit where
+    the test user cannot read, such as under /root); folders elsewhere are used as they are."""
+    if not folder.is_relative_to(REPO):
+        return folder
+    include = work / "include"
+    include.mkdir(exist_ok=True)
+    os.chmod(include, 0o755)
+    copy = include / str(len(list(include.iterdir())))
+    shutil.copytree(folder, copy)
+    for path in [copy, *copy.rglob("*")]:
+        os.chmod(path, 0o755 if path.is_dir() else 0o644)
+    return copy
+
+
 def preprocess_as(sandbox, build, tasks):
     """Expands each submitted file's #include lines as the unprivileged user, in place.
 
@@ -148,10 +163,12 @@ def preprocess_as(sandbox, build, tasks):
         words = commands[source.name]["command"].split()
         flags = []  # the include paths, language standard and macros of the real compilation
         for at, word in enumerate(words[1:-1], start=1):
-            if word.startswith(("-I", "-std", "-D")):
+            if word.startswith("-I"):
+                flags.append("-I" + str(readable_copy(Path(word[2:]), work)))
+            elif word.startswith(("-std", "-D")):
                 flags.append(word)
             elif word == "-isystem":
-                flags += [word, words[at + 1]]
+                flags += [word, str(readable_copy(Path(words[at + 1]), work))]
         command = [words[0], *flags, "-E", source.name, "-o", "expanded.cpp"]
         try:
             done = subprocess.run(command, cwd=work, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
@@ -563,9 +580,17 @@ def grade(arguments):
         results.append(result)
 
     # Run every test of every task in its own process, a few at a time.
+    # The suites are copied out of the build (which may sit where the test user cannot go, such
+    # as under /root) into a folder it can read but not change.
     scratch = Path(tempfile.mkdtemp(prefix="billiard-grade-"))
     os.chmod(scratch, 0o755)
-    jobs = [(test, build.executable(f"grade_{test.task}")) for result in results for test in result.tests]
+    suites = {}
+    for result in results:
+        if result.tests:
+            suites[result.task] = scratch / f"grade_{result.task}"
+            shutil.copyfile(build.executable(f"grade_{result.task}"), suites[result.task])
+            os.chmod(suites[result.task], 0o755)
+    jobs = [(test, suites[test.task]) for result in results for test in result.tests]
     cache = ResultCache(arguments.cache, arguments.timeout) if arguments.cache else None
     if cache:
         jobs = [(test, executable) for test, executable in jobs if not cache.recall(test, executable)]
