@@ -397,7 +397,8 @@ def print_table(results, verbose):
             print(f"      not implemented yet: write it in {result.task}.cpp (every test fails until then)")
             continue
         for test in failed:
-            print(f"      failed: {test.name} ({test.points} point{'s' if test.points != 1 else ''})")
+            name = "a hidden test" if test.visibility == "hidden" else test.name
+            print(f"      failed: {name} ({test.points} point{'s' if test.points != 1 else ''})")
             if verbose and test.feedback:
                 feedback = HIDDEN_FEEDBACK if test.visibility == "hidden" else test.feedback
                 print(indent(feedback, 10))
