@@ -25,6 +25,7 @@ packages=(
   libgtest-dev                   # the graded test suites
   python3                        # the grader (tests/grader/grade.py), run as /usr/bin/python3
   python3-yaml                   # the packaging tests (tests/grader/test_packages.py) read YAML
+  make                           # the Autolab package's test runs its Makefile
 )
 
 install_missing_packages() {
