@@ -115,8 +115,9 @@ def check_sources(files):
 
 # --- Points per task ---------------------------------------------------------------------------
 
-def task_points(tests_folder=None):
-    """{task: maximum points}, from the graded suites' --list-graded."""
+def task_points(tests_folder=None, hidden=True):
+    """{task: maximum points}, from the graded suites' --list-graded; without the hidden
+    (instructor-only) tests when `hidden` is false: the points a student's repository can earn."""
     if tests_folder is None:
         for command in (["cmake", "--preset", "release"],
                         ["cmake", "--build", "--preset", "release", "--target", *[f"test_{task}" for task in TASKS]]):
@@ -133,7 +134,8 @@ def task_points(tests_folder=None):
                               text=True, timeout=120)
         if done.returncode != 0:
             fail(f"{executable} --list-graded failed:\n{done.stderr}")
-        points[task] = sum(json.loads(line)["points"] for line in done.stdout.splitlines() if line.strip())
+        tests = [json.loads(line) for line in done.stdout.splitlines() if line.strip()]
+        points[task] = sum(test["points"] for test in tests if hidden or test["visibility"] != "hidden")
     return points
 
 
@@ -195,7 +197,8 @@ def classroom_workflow(points):
 
 
 def command_classroom(arguments):
-    text = classroom_workflow(task_points(arguments.tests))
+    # The steps run in the student's repository, which has no hidden tests (tests/graded/hidden/).
+    text = classroom_workflow(task_points(arguments.tests, hidden=False))
     target = REPO / WORKFLOW
     if arguments.check:
         current = target.read_text() if target.is_file() else ""

@@ -8,6 +8,7 @@ time through a resource lock), so each grading run rebuilds only what changed.
 
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -129,6 +130,44 @@ class GradesKnownSubmissions(unittest.TestCase):
             if task != "propagate":
                 self.assertEqual(scores[task], maxima[task], task)
 
+
+    def test_hidden_tests_never_leak_their_content(self):
+        # The instructor-only tests in tests/graded/hidden/ are marked `hidden`. Two mutants fail
+        # them; the student must see their points and nothing else: no name, no message.
+        hidden = {}
+        for source in (REPO / "tests" / "graded" / "hidden").glob("test_*.cpp"):
+            found = re.findall(r"GRADED_TEST\((\w+),\s*(\w+),\s*(\d+),\s*(\w+)\)", source.read_text())
+            self.assertTrue(found, f"{source} has no graded test")
+            self.assertTrue(all(shown == "hidden" for *_, shown in found), f"{source}: every test there must be hidden")
+            hidden[source.stem[len("test_"):]] = [(suite, name, int(points)) for suite, name, points, _ in found]
+        self.assertGreaterEqual(set(hidden), {"propagate", "kinetic_energy"})
+        submission = submission_from_solutions(propagate=REPO / "tests/mutants/propagate/whole_velocity_swap.cpp",
+                                               kinetic_energy=REPO / "tests/mutants/kinetic_energy/factor_without_sqrt.cpp")
+        try:
+            scores, maxima, report, junit, output = grade(submission, "--task", "propagate", "--task", "kinetic_energy")
+        finally:
+            shutil.rmtree(submission)
+        self.check_gradescope_format(report)
+        # The hidden tests count (with their points) and fail on these mutants ...
+        for task in ["propagate", "kinetic_energy"]:
+            entries = [test for test in report["tests"]
+                       if test["name"].startswith(task + ":") and test["visibility"] == "hidden"]
+            self.assertEqual(sorted(test["max_score"] for test in entries),
+                             sorted(points for *_, points in hidden[task]), task)
+            self.assertTrue(any(test["status"] == "failed" for test in entries), f"{task}: a hidden test must fail here")
+        # ... and their own feedback says what the hidden case is (so leaving it out matters):
+        suite = BUILD / "tests" / "grader" / "grade_propagate"
+        direct = subprocess.run([str(suite), "--gtest_filter=Propagate.HeldOut*"], stdout=subprocess.PIPE,
+                                stderr=subprocess.STDOUT, text=True, timeout=600)
+        self.assertIn("held-out table", direct.stdout)
+        # Visible failures keep their messages; nothing of a hidden test reaches the student.
+        self.assertTrue(any("Expected:" in test["output"] for test in report["tests"] if test["visibility"] != "hidden"))
+        secrets = ["held-out", "HeldOut", "hidden/test_"] + [name for task in hidden for _, name, _ in hidden[task]]
+        places = {"results.json": json.dumps(report), "junit.xml": ET.tostring(junit, encoding="unicode"),
+                  "the printed table": output}
+        for place, content in places.items():
+            for secret in secrets:
+                self.assertNotIn(secret, content, f"{place} shows '{secret}' of a hidden test")
 
     @unittest.skipUnless(os.geteuid() == 0, "needs root to run the submission as another user")
     def test_including_the_reference_solution_gains_nothing(self):

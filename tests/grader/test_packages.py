@@ -63,15 +63,15 @@ def fresh(folder):
     return folder
 
 
-_points = None
+_points = {}
 
 
-def maxima():
-    """{task: maximum points} from the built graded suites."""
-    global _points
-    if _points is None:
-        _points = package.task_points(TESTS)
-    return _points
+def maxima(hidden=True):
+    """{task: maximum points} from the built graded suites; without the instructor-only hidden
+    tests (what the student release can earn) when `hidden` is false."""
+    if hidden not in _points:
+        _points[hidden] = package.task_points(TESTS, hidden=hidden)
+    return _points[hidden]
 
 
 def scores_of(report):
@@ -151,7 +151,9 @@ class StudentRelease(unittest.TestCase):
         report = json.loads((folder / "build" / "grade" / "results" / "results.json").read_text())
         self.assertEqual(scores_of(report), {task: 0 for task in TASKS})
         self.assertEqual({task: sum(t["max_score"] for t in report["tests"] if t["name"].startswith(task + ":"))
-                          for task in TASKS}, maxima())
+                          for task in TASKS}, maxima(hidden=False))
+        self.assertFalse([t for t in report["tests"] if t["visibility"] == "hidden"], "no instructor-only test")
+        self.assertNotEqual(maxima(hidden=False), maxima(), "the instructors' suites have hidden tests")
 
 
 class Classroom(unittest.TestCase):
@@ -172,7 +174,7 @@ class Classroom(unittest.TestCase):
         for task, step in zip(TASKS, graders):
             self.assertIn(f"--task {task} ", step["with"]["command"] + " ")
             self.assertIn("--require-full", step["with"]["command"])
-            self.assertEqual(step["with"]["max-score"], maxima()[task])
+            self.assertEqual(step["with"]["max-score"], maxima(hidden=False)[task])
         self.assertEqual(len({step["with"]["test-name"] for step in graders}), len(TASKS))
         return graders
 
@@ -188,7 +190,7 @@ class Classroom(unittest.TestCase):
             self.assertIn(status, {0, 1}, output)  # graded (not a crash of the grader)
             report = json.loads((folder / "build" / "grade" / "results" / "results.json").read_text())
             task = inputs["command"].split("--task ")[1].split()[0]
-            self.assertEqual(scores_of(report)[task] == maxima()[task], status == 0, output)
+            self.assertEqual(scores_of(report)[task] == maxima(hidden=False)[task], status == 0, output)
             statuses.append(status)
             print(f"{inputs['test-name']}: exit status {status}", flush=True)
         return statuses
