@@ -47,13 +47,48 @@ def grade(submission, *options):
     return scores, maxima, report, junit, done.stdout
 
 
+def mutant_source(mutant):
+    """The source of a mutant (tests/mutants/<task>/<bug>.mutant): the reference solution of its
+    task with each block's `solutions/...` lines replaced by its `mutant` lines. Every block's
+    original lines must occur exactly once in the current reference solution, so a mutant that no
+    longer fits the solutions fails loudly instead of testing stale code."""
+    task = mutant.parent.name
+    solution = (REPO / "solutions" / f"{task}.cpp").read_text()
+    blocks = re.findall(r"^<<<<<<< solutions/(\w+)\.cpp\n(.*?)^=======\n(.*?)^>>>>>>> mutant\n",
+                        mutant.read_text(), re.DOTALL | re.MULTILINE)
+    if not blocks:
+        raise AssertionError(f"{mutant} has no replacement block")
+    spots = []
+    for file_task, original, replacement in blocks:
+        if file_task != task:
+            raise AssertionError(f"{mutant}: a block for solutions/{file_task}.cpp in the folder of task {task}")
+        if solution.count(original) != 1:
+            raise AssertionError(f"{mutant} no longer fits solutions/{task}.cpp: these lines occur "
+                                 f"{solution.count(original)} times there, not once:\n{original}")
+        start = solution.index(original)
+        spots.append((start, start + len(original), replacement))
+    spots.sort()
+    pieces, at = [], 0
+    for start, end, replacement in spots:
+        if start < at:
+            raise AssertionError(f"{mutant}: two blocks replace the same lines")
+        pieces += [solution[at:start], replacement]
+        at = end
+    return "".join(pieces) + solution[at:]
+
+
 def submission_from_solutions(**replacements):
-    """A temporary submission: the reference files, with some replaced by the given files."""
+    """A temporary submission: the reference files, with some replaced by the given files
+    (a .mutant file is applied to the reference solution of its task)."""
     folder = Path(tempfile.mkdtemp(prefix="submission-"))
     for task in TASKS:
         shutil.copyfile(REPO / "solutions" / f"{task}.cpp", folder / f"{task}.cpp")
     for task, source in replacements.items():
-        shutil.copyfile(source, folder / f"{task}.cpp")
+        source = Path(source)
+        if source.suffix == ".mutant":
+            (folder / f"{task}.cpp").write_text(mutant_source(source))
+        else:
+            shutil.copyfile(source, folder / f"{task}.cpp")
     return folder
 
 
@@ -141,8 +176,8 @@ class GradesKnownSubmissions(unittest.TestCase):
             self.assertTrue(all(shown == "hidden" for *_, shown in found), f"{source}: every test there must be hidden")
             hidden[source.stem[len("test_"):]] = [(suite, name, int(points)) for suite, name, points, _ in found]
         self.assertGreaterEqual(set(hidden), {"propagate", "kinetic_energy"})
-        submission = submission_from_solutions(propagate=REPO / "tests/mutants/propagate/whole_velocity_swap.cpp",
-                                               kinetic_energy=REPO / "tests/mutants/kinetic_energy/factor_without_sqrt.cpp")
+        submission = submission_from_solutions(propagate=REPO / "tests/mutants/propagate/whole_velocity_swap.mutant",
+                                               kinetic_energy=REPO / "tests/mutants/kinetic_energy/factor_without_sqrt.mutant")
         try:
             scores, maxima, report, junit, output = grade(submission, "--task", "propagate", "--task", "kinetic_energy")
         finally:
@@ -191,7 +226,7 @@ class GradesKnownSubmissions(unittest.TestCase):
 
 class Mutants(unittest.TestCase):
     def test_every_mutant_loses_points_only_in_its_own_task(self):
-        mutants = sorted((REPO / "tests" / "mutants").glob("*/*.cpp"))
+        mutants = sorted((REPO / "tests" / "mutants").glob("*/*.mutant"))
         self.assertGreaterEqual(len(mutants), 20)
         problems = []
         for mutant in mutants:
