@@ -2,6 +2,8 @@
 # The project's commands (see README.md; run and test are the quick start's two):
 #   ./build.sh run  [TABLE_RADIUS CIRCLE_RADIUS N] [billiard options]   build, then run `billiard`
 #   ./build.sh test [ctest options]                                     build, then run every test
+#   ./build.sh python                       build the Python module `billiard` and make Debian's
+#                                           /usr/bin/python3 import it (for the notebooks)
 #   ./build.sh grade [grader options]       grade tasks/ per task, as the graders do (--help)
 #   ./build.sh setup                        only install the missing Debian packages (the graders'
 #                                           setup; root or sudo)
@@ -15,10 +17,11 @@ if [ -z "${BILLIARD_PRESET:-}" ]; then
 fi
 
 usage() {
-  sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'
+  sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'
 }
 
 # Debian packages, by what needs them. Names are apt-get names: there is no PyPI here.
+# The command, its tests and the grader need these (run, grade, setup):
 packages=(
   cmake ninja-build g++          # the build
   libeigen3-dev                  # vectors and matrices
@@ -27,10 +30,19 @@ packages=(
   python3-yaml                   # the packaging tests (tests/grader/test_packages.py) read YAML
   make                           # the Autolab package's test runs its Makefile
 )
+# The Python module and the notebooks need these as well (test, python):
+python_packages=(
+  pybind11-dev python3-dev       # the module `billiard` for Debian's /usr/bin/python3
+  python3-numpy python3-matplotlib python3-pil  # arrays, figures, GIF animations
+  ffmpeg                         # MP4 animations
+  python3-pytest                 # the module's tests
+  jupyter-nbconvert python3-nbclient python3-ipykernel  # running the notebooks headless
+)
 
+# install_missing_packages [PACKAGE...]: the core packages above and the given ones.
 install_missing_packages() {
   local missing=() p
-  for p in "${packages[@]}"; do
+  for p in "${packages[@]}" "$@"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q '^install ok installed$' || missing+=("$p")
   done
   [ ${#missing[@]} -eq 0 ] && return 0
@@ -49,8 +61,19 @@ install_missing_packages() {
 
 # build [TARGET...]: configure (first time) and build the given targets, or everything.
 build() {
-  cmake --preset "$BILLIARD_PRESET" >/dev/null
+  cmake --preset "$BILLIARD_PRESET" "${configure_options[@]}" >/dev/null
   cmake --build --preset "$BILLIARD_PRESET" ${1:+--target "$@"}
+}
+configure_options=()
+
+# Makes Debian's /usr/bin/python3 import the module `billiard` built here, from any folder: a
+# .pth file in the user's site-packages names the build's python/ folder (no pip, no PyPI).
+register_python_module() {
+  local site
+  site=$(/usr/bin/python3 -c 'import site; print(site.getusersitepackages())')
+  mkdir -p "$site"
+  echo "$PWD/build/$BILLIARD_PRESET/python" > "$site/billiard.pth"
+  echo "build.sh: /usr/bin/python3 imports billiard from build/$BILLIARD_PRESET/python (via $site/billiard.pth)"
 }
 
 command=${1:-}
@@ -64,9 +87,17 @@ case "$command" in
     exec "$dir/billiard" --output build/output "$@"
     ;;
   test)
-    install_missing_packages
+    install_missing_packages "${python_packages[@]}"
+    configure_options=(-DBILLIARD_PYTHON=ON)  # the module and notebooks are tested: never skip them
     build
+    register_python_module
     exec ctest --preset "$BILLIARD_PRESET" "$@"
+    ;;
+  python)
+    install_missing_packages "${python_packages[@]}"
+    configure_options=(-DBILLIARD_PYTHON=ON)
+    build billiard_python
+    register_python_module
     ;;
   grade)
     install_missing_packages

@@ -1,0 +1,26 @@
+// Shared by the binding files of the Python module: numpy <-> Eigen conversion with errors that
+// say what the caller passed and how to fix it (they arrive in Python as ValueError).
+#pragma once
+
+#include <Eigen/Core>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+namespace billiard::python {
+
+using Rows2 = Eigen::Matrix<double, Eigen::Dynamic, 2>;
+
+// An n by 2 float64 numpy array as an Eigen matrix (a copy). With `writable`, the array must
+// also be one we can write the result back into: float64, C-contiguous, writeable.
+Rows2 from_numpy(const pybind11::array& array, const char* name, bool writable = false);
+
+// Copies the matrix back into the caller's array (same shape, checked by from_numpy).
+void write_back(const Rows2& matrix, pybind11::array& array);
+
+// A new n by 2 float64 numpy array.
+pybind11::array_t<double> to_numpy(const Rows2& matrix);
+
+void bind_course(pybind11::module_& m);
+void bind_simulation(pybind11::module_& m);
+
+}  // namespace billiard::python

@@ -1,0 +1,77 @@
+// The compiled part of the Python package `billiard` (billiard/_billiard.*.so); the package's
+// __init__.py re-exports it. Errors: std::invalid_argument arrives as ValueError (pybind11's
+// own translation), a task that is not implemented yet as NotImplementedError.
+#include "bindings.hpp"
+
+#include "billiard/not_implemented.hpp"
+
+#include <string>
+
+namespace py = pybind11;
+
+namespace billiard::python {
+
+Rows2 from_numpy(const py::array& array, const char* name, bool writable) {
+  const auto shape = [&] {
+    std::string s = "(";
+    for (py::ssize_t k = 0; k < array.ndim(); ++k) s += (k ? ", " : "") + std::to_string(array.shape(k));
+    return s + (array.ndim() == 1 ? ",)" : ")");
+  };
+  if (array.ndim() != 2 || array.shape(1) != 2) {
+    throw std::invalid_argument(std::string(name) + " must be an array of shape (n, 2), got shape " + shape());
+  }
+  const bool is_double = array.dtype().is(py::dtype::of<double>());
+  if (writable) {
+    if (!is_double || !(array.flags() & py::array::c_style) || !array.writeable()) {
+      throw std::invalid_argument(std::string(name) + " is updated in place, so it must be a writable float64 array "
+                                  "(make one with numpy.array(" + name + ", dtype=float)), got dtype " +
+                                  py::str(array.dtype()).cast<std::string>());
+    }
+  }
+  const auto values = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(array);
+  if (!values) throw std::invalid_argument(std::string(name) + " must hold numbers");
+  Rows2 m(values.shape(0), 2);
+  const auto view = values.unchecked<2>();
+  for (py::ssize_t i = 0; i < values.shape(0); ++i) {
+    m(i, 0) = view(i, 0);
+    m(i, 1) = view(i, 1);
+  }
+  return m;
+}
+
+void write_back(const Rows2& matrix, py::array& array) {
+  auto target = py::array_t<double, py::array::c_style>::ensure(array);
+  auto view = target.mutable_unchecked<2>();
+  for (Eigen::Index i = 0; i < matrix.rows(); ++i) {
+    view(i, 0) = matrix(i, 0);
+    view(i, 1) = matrix(i, 1);
+  }
+}
+
+py::array_t<double> to_numpy(const Rows2& matrix) {
+  py::array_t<double> out({static_cast<py::ssize_t>(matrix.rows()), py::ssize_t{2}});
+  auto view = out.mutable_unchecked<2>();
+  for (Eigen::Index i = 0; i < matrix.rows(); ++i) {
+    view(i, 0) = matrix(i, 0);
+    view(i, 1) = matrix(i, 1);
+  }
+  return out;
+}
+
+}  // namespace billiard::python
+
+PYBIND11_MODULE(_billiard, m) {
+  m.doc() = "Compiled core of the billiard package: the course functions and the event-driven Simulation.";
+  py::register_exception_translator([](std::exception_ptr error) {
+    try {
+      if (error) std::rethrow_exception(error);
+    } catch (const billiard::NotImplemented& e) {
+      PyErr_SetString(PyExc_NotImplementedError, e.what());
+    }
+  });
+  billiard::python::bind_course(m);
+#ifdef BILLIARD_PYTHON_SIMULATION
+  billiard::python::bind_simulation(m);
+#endif
+  m.attr("course_implementation") = BILLIARD_COURSE_NAME;
+}
