@@ -1,0 +1,259 @@
+// billiard_bench: collisions per second of the event-driven engine.
+//
+// For each N, area fraction, container (box, table, periodic) and gravity setting: discs of
+// radius 1 on a square lattice (so any density up to pi/4 is reachable without a slow random
+// placement), random Gaussian velocities, a warm-up of --warmup collisions per disc... then
+// --repeats timed runs of --events collisions each; the median rate is reported. "Collisions" are
+// disc-disc plus disc-wall events (cell crossings are counted apart). The course's all-pairs
+// propagate (O(N^2) per event) is timed at small N for comparison.
+//
+//   billiard_bench [--n 100,1000,...] [--density 0.1,0.5] [--containers box,table,periodic]
+//                  [--gravity 0,1] [--repeats 5] [--events 1000000] [--course-n 100,1000]
+//                  [--cell SIZE] [--json FILE] [--wall]
+// Rates are per second of this thread's CPU time (--wall: elapsed time instead).
+#include "billiard/simulation.hpp"
+#ifdef BILLIARD_BENCH_COURSE
+#include "billiard/course.hpp"
+#endif
+
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+using billiard::Vec2;
+using Clock = std::chrono::steady_clock;
+
+// CPU time of this thread in seconds: the rate of one core, insensitive to other processes
+// sharing the machine (wall-clock rates are printed by --wall).
+bool use_wall_clock = false;
+double now_seconds() {
+  if (use_wall_clock) return std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+std::vector<double> parse_list(const std::string& text) {
+  std::vector<double> values;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) values.push_back(std::stod(item));
+  return values;
+}
+std::vector<std::string> parse_words(const std::string& text) {
+  std::vector<std::string> values;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) values.push_back(item);
+  return values;
+}
+
+struct Row {
+  std::string engine, container;
+  long n;
+  double density;
+  int gravity;
+  double rate;          // median collisions per second
+  double crossings;     // cell crossings per collision
+  double stale;         // stale queue entries per collision
+  double bytes_per_disc;
+  double setup_seconds;
+};
+
+// Square lattice of n points with spacing `spacing`, centred on the origin, keeping only points
+// that `inside` accepts (for the table); returns at most n points.
+billiard::Points lattice(long n, double spacing, const Vec2& origin, long per_row) {
+  billiard::Points points(n, 2);
+  for (long k = 0; k < n; ++k) {
+    points(k, 0) = origin.x() + (0.5 + static_cast<double>(k % per_row)) * spacing;
+    points(k, 1) = origin.y() + (0.5 + static_cast<double>(k / per_row)) * spacing;
+  }
+  return points;
+}
+
+billiard::Simulation make_system(const std::string& container, long n, double density, bool gravity,
+                                 double cell, std::mt19937_64& rng) {
+  const double area = static_cast<double>(n) * M_PI / density;  // radius 1
+  billiard::Simulation sim;
+  billiard::Points positions;
+  if (container == "table") {
+    const double radius = std::sqrt(area / M_PI);
+    sim.set_circular_table(radius);
+    // Square lattice clipped to the disc of radius R - 1; shrink the spacing until n fit.
+    double spacing = std::sqrt(M_PI * (radius - 1) * (radius - 1) / static_cast<double>(n));
+    std::vector<Vec2> points;
+    while (true) {
+      points.clear();
+      const long half = static_cast<long>(std::ceil(radius / spacing)) + 1;
+      for (long iy = -half; iy <= half; ++iy) {
+        for (long ix = -half; ix <= half; ++ix) {
+          const Vec2 p((static_cast<double>(ix) + 0.5) * spacing, (static_cast<double>(iy) + 0.5) * spacing);
+          if (p.norm() <= radius - 1.0000001) points.push_back(p);
+        }
+      }
+      if (static_cast<long>(points.size()) >= n) break;
+      spacing *= 0.995;
+    }
+    if (spacing < 2) throw std::runtime_error("density too high for the lattice start");
+    std::shuffle(points.begin(), points.end(), rng);
+    positions.resize(n, 2);
+    for (long k = 0; k < n; ++k) positions.row(k) = points[k].transpose();
+  } else {
+    const double side = std::sqrt(area);
+    const long per_row = static_cast<long>(std::ceil(std::sqrt(static_cast<double>(n))));
+    const double spacing = side / static_cast<double>(per_row);
+    if (spacing < 2.0000001) throw std::runtime_error("density too high for the lattice start");
+    if (container == "periodic") {
+      sim.set_periodic_box(side, side);
+    } else {
+      sim.add_box(Vec2(0, 0), Vec2(side, side));
+    }
+    positions = lattice(n, spacing, Vec2(0, 0), per_row);
+  }
+  std::normal_distribution<double> normal(0.0, 1.0);
+  billiard::Points velocities(n, 2);
+  for (long k = 0; k < n; ++k) velocities.row(k) << normal(rng), normal(rng);
+  if (gravity) sim.set_gravity(Vec2(0, -0.1));  // weak: a fall of 10 radii gains a speed ~1.4
+  if (cell > 0) sim.set_cell_size(cell);
+  sim.add_discs(positions, velocities, 1.0, 1.0);
+  return sim;
+}
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t m = values.size() / 2;
+  return values.size() % 2 ? values[m] : 0.5 * (values[m - 1] + values[m]);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<double> ns = {100, 1000, 10000, 100000, 1000000};
+  std::vector<double> densities = {0.1, 0.5};
+  std::vector<std::string> containers = {"box", "table"};
+  std::vector<double> gravities = {0, 1};
+  std::vector<double> course_ns = {100, 1000};
+  int repeats = 5;
+  double events = 1e6;
+  double warmup = 2;  // collisions per disc before timing
+  double cell = 0;
+  std::string json;
+  for (int k = 1; k < argc; ++k) {
+    const std::string arg = argv[k];
+    auto value = [&]() -> std::string {
+      if (k + 1 >= argc) {
+        std::cerr << arg << " needs a value\n";
+        std::exit(2);
+      }
+      return argv[++k];
+    };
+    if (arg == "--n") ns = parse_list(value());
+    else if (arg == "--density") densities = parse_list(value());
+    else if (arg == "--containers") containers = parse_words(value());
+    else if (arg == "--gravity") gravities = parse_list(value());
+    else if (arg == "--course-n") course_ns = parse_list(value());
+    else if (arg == "--repeats") repeats = std::stoi(value());
+    else if (arg == "--events") events = std::stod(value());
+    else if (arg == "--warmup") warmup = std::stod(value());
+    else if (arg == "--cell") cell = std::stod(value());
+    else if (arg == "--json") json = value();
+    else if (arg == "--wall") use_wall_clock = true;
+    else {
+      std::cout << "usage: billiard_bench [--n LIST] [--density LIST] [--containers box,table,periodic]\n"
+                   "                      [--gravity 0,1] [--repeats R] [--events E] [--warmup W]\n"
+                   "                      [--course-n LIST] [--cell SIZE] [--json FILE]\n";
+      return arg == "--help" ? 0 : 2;
+    }
+  }
+  std::mt19937_64 rng(12345);
+  std::vector<Row> rows;
+  std::printf("%-8s %-9s %9s %7s %4s %14s %10s %10s %10s %8s\n", "engine", "container", "N", "eta", "g",
+              "collisions/s", "cross/coll", "stale/coll", "bytes/disc", "setup s");
+  auto print = [](const Row& r) {
+    std::printf("%-8s %-9s %9ld %7.3f %4d %14.0f %10.3f %10.3f %10.0f %8.2f\n", r.engine.c_str(), r.container.c_str(), r.n,
+                r.density, r.gravity, r.rate, r.crossings, r.stale, r.bytes_per_disc, r.setup_seconds);
+    std::fflush(stdout);
+  };
+  for (const std::string& container : containers) {
+    for (double g : gravities) {
+      // A periodic box has no floor: under gravity the speeds grow without bound while the
+      // collision rate does not (all discs fall alike), so the run would time only crossings.
+      if (container == "periodic" && g != 0) continue;
+      for (double density : densities) {
+        for (double nd : ns) {
+          const long n = static_cast<long>(nd);
+          const auto t0 = Clock::now();
+          billiard::Simulation sim = make_system(container, n, density, g != 0, cell, rng);
+          sim.advance(static_cast<std::int64_t>(warmup * static_cast<double>(n)));
+          const double setup = std::chrono::duration<double>(Clock::now() - t0).count();
+          std::vector<double> rates;
+          double crossings = 0, collisions = 0, stale = 0;
+          for (int r = 0; r < repeats; ++r) {
+            const double start = now_seconds();
+            const billiard::AdvanceResult result = sim.advance(static_cast<std::int64_t>(events));
+            const double seconds = now_seconds() - start;
+            rates.push_back(static_cast<double>(result.collisions) / seconds);
+            crossings += static_cast<double>(result.cell_crossings);
+            collisions += static_cast<double>(result.collisions);
+            stale += static_cast<double>(result.stale_events);
+            if (result.stuck) std::fprintf(stderr, "warning: run stuck\n");
+          }
+          const std::string problem = sim.validate();
+          if (!problem.empty()) std::fprintf(stderr, "validation failed: %s\n", problem.c_str());
+          Row row{"engine", container, n, density, g != 0 ? 1 : 0, median(rates), crossings / std::max(collisions, 1.0),
+                  stale / std::max(collisions, 1.0),
+                  sim.memory_bytes() / static_cast<double>(n), setup};
+          rows.push_back(row);
+          print(row);
+        }
+      }
+    }
+  }
+#ifdef BILLIARD_BENCH_COURSE
+  // The course's reference propagate: all pairs every event, equal discs in the circular table.
+  for (double nd : course_ns) {
+    for (double density : densities) {
+      const int n = static_cast<int>(nd);
+      const double table = std::sqrt(n / density);  // radius 1 discs, area fraction n / R^2
+      billiard::Simulation sim = make_system("table", n, density, false, 0, rng);
+      const billiard::State s = sim.current_state();
+      billiard::Coordinates r = s.positions;
+      billiard::Velocities v = s.velocities;
+      const int count = std::max(10, static_cast<int>(2e7 / (nd * nd)));
+      std::vector<double> rates;
+      for (int rep = 0; rep < repeats; ++rep) {
+        const double start = now_seconds();
+        for (int k = 0; k < count; ++k) billiard::propagate(table, 1.0, n, r, v);
+        rates.push_back(count / (now_seconds() - start));
+      }
+      Row row{"course", "table", static_cast<long>(n), density, 0, median(rates), 0, 0, 0, 0};
+      rows.push_back(row);
+      print(row);
+    }
+  }
+#endif
+  if (!json.empty()) {
+    std::ofstream out(json);
+    out << "[\n";
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      const Row& r = rows[k];
+      out << "  {\"engine\": \"" << r.engine << "\", \"container\": \"" << r.container << "\", \"n\": " << r.n
+          << ", \"density\": " << r.density << ", \"gravity\": " << r.gravity << ", \"collisions_per_second\": " << r.rate
+          << ", \"crossings_per_collision\": " << r.crossings << ", \"stale_per_collision\": " << r.stale << ", \"bytes_per_disc\": " << r.bytes_per_disc
+          << ", \"repeats\": " << repeats << ", \"events\": " << events << "}" << (k + 1 < rows.size() ? "," : "") << "\n";
+    }
+    out << "]\n";
+  }
+  return 0;
+}

@@ -1,0 +1,55 @@
+// Discs and snapshots of the whole system.
+#pragma once
+
+#include "billiard/course.hpp"  // kWall, shared with the course contract
+#include "billiard/event_queue.hpp"
+#include "billiard/vec2.hpp"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace billiard {
+
+// One disc as the user describes it. Units are the user's: lengths (position, radius), speeds,
+// masses; inertia in mass x length^2; spin (angular velocity) in radians per time unit,
+// counter-clockwise positive.
+struct Disc {
+  Vec2 position = Vec2::Zero();
+  Vec2 velocity = Vec2::Zero();
+  double radius = 1.0;                  // > 0
+  double mass = 1.0;                    // > 0
+  std::optional<double> inertia;        // > 0; unset means a uniform disc, mass radius^2 / 2
+  double spin = 0.0;
+};
+
+// The state of all discs at one time. Row i is disc i (the id add_disc returned).
+struct State {
+  double time = 0.0;
+  Points positions;         // N by 2
+  Points velocities;        // N by 2
+  Eigen::VectorXd spins;    // N
+};
+
+// One recorded collision (the event log). `other` is the second disc, or kWall (-1, as in the
+// course) for a wall hit, in which case `wall` is the wall's index (see Simulation::walls());
+// otherwise wall = kNoWall. Positions and velocities are those just after the collision (at
+// `time`); for a wall hit the other_* fields are zero.
+inline constexpr int kNoWall = -1;
+struct EventRecord {
+  double time = 0.0;
+  EventKind kind = EventKind::DiscDisc;
+  int disc = 0;
+  int other = 0;
+  int wall = kNoWall;
+  Vec2 position = Vec2::Zero();
+  Vec2 velocity = Vec2::Zero();
+  double spin = 0.0;
+  Vec2 other_position = Vec2::Zero();
+  Vec2 other_velocity = Vec2::Zero();
+  double other_spin = 0.0;
+};
+
+}  // namespace billiard

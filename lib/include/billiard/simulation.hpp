@@ -1,0 +1,141 @@
+// The simulation: discs and walls, advanced from collision to collision.
+//
+//   billiard::Simulation sim;
+//   sim.add_box({0, 0}, {10, 10});                       // or set_circular_table / set_periodic_box
+//   billiard::Disc d;  d.position = {1, 1};  d.velocity = {1, 0.5};
+//   int id = sim.add_disc(d);
+//   sim.advance(1000);                                   // 1000 collisions, or
+//   sim.advance(kAllEvents, 2.5);                        // 2.5 time units
+//   billiard::State now = sim.current_state();
+//
+// Setup (discs, walls, container, gravity, cell size) must be complete before the first
+// advance(); afterwards only the restitution, the event log and validation can change. Every
+// setup call checks its input and throws std::invalid_argument naming the argument (and the disc
+// index) and its value; a refused call leaves the simulation unchanged.
+//
+// Units: the user's. Time starts at 0. Energy is conserved to rounding for smooth elastic discs
+// (about 1e-16 relative per collision, a random walk).
+#pragma once
+
+#include "billiard/collide.hpp"
+#include "billiard/disc.hpp"
+#include "billiard/vec2.hpp"
+#include "billiard/wall.hpp"
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace billiard {
+
+inline constexpr std::int64_t kAllEvents = std::numeric_limits<std::int64_t>::max();
+
+// What advance() did. "Collisions" are disc-disc plus disc-wall events; cell crossings and
+// stale queue entries are bookkeeping and are counted separately.
+struct AdvanceResult {
+  std::int64_t collisions = 0;
+  std::int64_t disc_collisions = 0;
+  std::int64_t wall_collisions = 0;
+  std::int64_t cell_crossings = 0;
+  std::int64_t stale_events = 0;
+  double elapsed = 0.0;  // simulated time advanced
+  // True if the run stopped because events kept happening at the same instant (a disc resting
+  // on a floor under gravity, an inelastic collapse: event-driven dynamics cannot continue), or
+  // because, with no duration limit, only cell crossings happened for a very long time (no
+  // collision can happen, e.g. all discs moving in parallel in a periodic box).
+  bool stuck = false;
+};
+
+// Running totals since time 0, for pressure: PA = N kT + virial / (2 t) (physics notes) and the
+// momentum given to the walls per unit time and length.
+struct Totals {
+  double wall_momentum = 0.0;  // sum of |impulse| given to walls
+  double virial = 0.0;         // sum over disc-disc collisions of r_ij . dp_i
+  std::int64_t disc_collisions = 0;
+  std::int64_t wall_collisions = 0;
+  std::int64_t cell_crossings = 0;
+};
+
+class Simulation {
+ public:
+  Simulation();
+  ~Simulation();
+  Simulation(Simulation&&) noexcept;
+  Simulation& operator=(Simulation&&) noexcept;
+  Simulation(const Simulation&);
+  Simulation& operator=(const Simulation&);
+
+  // ---- Containers (at least one is needed before advance) ----
+  // Circular table of `radius` centred at the origin; discs live inside it.
+  void set_circular_table(double radius);
+  // Periodic box [0, width) x [0, height): the standard bulk system (no walls inside it).
+  void set_periodic_box(double width, double height);
+  // A straight wall from a to b (two-sided) and its two end points; returns the segment's wall
+  // index. End points shared with earlier segments are not duplicated.
+  int add_segment(const Vec2& a, const Vec2& b);
+  // The four walls of the axis-aligned box [lower, upper]; discs live inside it.
+  void add_box(const Vec2& lower, const Vec2& upper);
+  // A closed polygon (vertices N by 2, N >= 3, in order): one segment per side. Discs must be
+  // inside an odd number of the closed polygons and boxes (so a polygon inside a box is an
+  // obstacle).
+  void add_polygon(const Points& vertices);
+
+  // ---- Physics ----
+  void set_gravity(const Vec2& g);                      // uniform, any direction; default 0
+  void set_restitution(double normal, double tangential = -1.0);  // see collide.hpp
+  // Cell side (>= the largest diameter); 0 = automatic (the default).
+  void set_cell_size(double size);
+
+  // ---- Discs ----
+  // Adds one disc (see disc.hpp) and returns its index. Refused if it overlaps another disc or
+  // a wall, or lies outside the container.
+  int add_disc(const Disc& disc);
+  // Adds many discs of one radius and mass (positions and velocities N by 2); returns the index
+  // of the first. All or nothing: one bad disc refuses the whole call.
+  int add_discs(const Points& positions, const Points& velocities, double radius, double mass = 1.0);
+
+  // ---- Running ----
+  // Advances until max_events collisions have happened or max_duration time has passed,
+  // whichever comes first (the clock then stops exactly at the duration).
+  AdvanceResult advance(std::int64_t max_events, double max_duration = kNever);
+
+  // ---- State ----
+  int size() const;
+  double time() const;
+  State current_state() const;        // all discs advanced to time()
+  const State& initial_state() const; // as at the first advance (or now, before it)
+  const std::vector<Wall>& walls() const;
+  Totals totals() const;
+  double kinetic_energy() const;      // sum m v^2/2 + I w^2/2
+  double potential_energy() const;    // - sum m g.r
+  double memory_bytes() const;        // memory held by the engine
+  int cell_count() const;             // cells of the grid (0 before the first advance)
+
+  // ---- Event log and replay ----
+  void enable_event_log(bool on);
+  void clear_event_log();
+  const std::vector<EventRecord>& event_log() const;
+  // State just after logged event k (0-based), rebuilt from initial_state() and the log (the log
+  // must have been enabled from the first advance on).
+  State replay_after_event(std::size_t k) const;
+  // State at time t, rebuilt the same way (fixed-time-step replays call it for t = 0, dt, ...).
+  State replay_at(double t) const;
+
+  // ---- Checks ----
+  // Returns "" if every disc is inside its container, no two discs overlap by more than
+  // `tolerance` times the smaller radius, every disc lies in its cell and the queue is in heap
+  // order; otherwise a description of the first problem found.
+  std::string validate(double tolerance = 1e-9);
+  // Runs validate() after every event and stops advance() at the first problem (slow; tests).
+  void set_validate_every_event(bool on);
+  const std::string& last_problem() const;
+
+  struct Engine;  // internals, lib/src/engine/engine.hpp
+
+ private:
+  std::unique_ptr<Engine> engine_;
+};
+
+}  // namespace billiard

@@ -1,0 +1,47 @@
+// Collision impulses. See billiard/collide.hpp for the formula and its source.
+#include "billiard/collide.hpp"
+
+namespace billiard {
+
+Vec2 collide(const Vec2& sigma, ContactBody& i, ContactBody& j, const Restitution& restitution) {
+  // Velocity of each contact point: centre velocity plus spin times the lever arm turned by 90
+  // degrees (w x r in 2D). i's contact point is at +lever_i sigma, j's at -lever_j sigma.
+  const Vec2 t = perp(sigma);
+  const Vec2 g = (i.velocity + i.spin * i.lever * t) - (j.velocity - j.spin * j.lever * t);
+  const double g_normal = g.dot(sigma);
+  if (g_normal <= 0) return Vec2::Zero();  // separating or grazing: no impulse
+  const double inverse_mu = i.inverse_mass + j.inverse_mass;  // 1/mu
+  if (inverse_mu == 0) return Vec2::Zero();                   // two immovable bodies
+  Vec2 q = -(1 + restitution.normal) * g_normal / inverse_mu * sigma;
+  if (restitution.tangential > -1) {
+    const Vec2 g_tangent = g - g_normal * sigma;
+    const double inverse_tangential_mass = inverse_mu + i.lever * i.lever * i.inverse_inertia +
+                                           j.lever * j.lever * j.inverse_inertia;
+    q -= (1 + restitution.tangential) / inverse_tangential_mass * g_tangent;
+  }
+  i.velocity += i.inverse_mass * q;
+  j.velocity -= j.inverse_mass * q;
+  // Torque of the impulse about each centre: lever arm x impulse. For i: (lever_i sigma) x Q;
+  // for j: (-lever_j sigma) x (-Q) = lever_j sigma x Q.
+  const double sigma_cross_q = cross(sigma, q);
+  i.spin += i.inverse_inertia * i.lever * sigma_cross_q;
+  j.spin += j.inverse_inertia * j.lever * sigma_cross_q;
+  return q;
+}
+
+Vec2 collide_smooth_elastic(const Vec2& normal, Vec2& v_i, double inverse_mass_i, Vec2& v_j,
+                            double inverse_mass_j) {
+  const double g_normal = (v_i - v_j).dot(normal);
+  if (g_normal <= 0) return Vec2::Zero();
+  // Q = -2 mu (g.sigma) sigma with sigma = normal / |normal|, written as
+  // -2 mu (g.normal) normal / (normal.normal): no square root, and no bias from a normalised
+  // vector whose length is 1 only up to rounding (that bias made the energy drift ten times
+  // faster than the unbiased random walk: 2e-12 instead of 1e-13 after 10^6 collisions).
+  // For equal masses each disc's normal component is exchanged.
+  const Vec2 q = (-2 * g_normal / ((inverse_mass_i + inverse_mass_j) * normal.squaredNorm())) * normal;
+  v_i += inverse_mass_i * q;
+  v_j -= inverse_mass_j * q;
+  return q;
+}
+
+}  // namespace billiard

@@ -1,0 +1,616 @@
+// The event loop (Lubachevsky 1991; Rapaport, The Art of Molecular Dynamics Simulation, ch. 14;
+// the layout follows Smallenburg's compact EDMD codes).
+//
+// Each disc has exactly one entry in the queue: the earlier of its predicted contact and its
+// cell crossing. Popping disc i:
+//   - crossing: move i to its new cell and look only at the newly adjacent row of cells (and the
+//     walls of the new cell); the contact found before stays valid unless its partner collided.
+//   - contact with disc j whose counter changed since the prediction: stale, re-predict i only.
+//   - otherwise: advance i (and j) to now, apply the impulse, bump the counters, re-predict.
+// Every real collision is then the earliest event of at least one of its discs: whichever of the
+// two was predicted last saw the other. Positions are lazy: a disc is stored at the time of its
+// last update and moved only when an event touches it.
+#include "engine.hpp"
+
+#include "billiard/time_of_impact.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <sstream>
+
+namespace billiard {
+
+static_assert(sizeof(HotDisc) == 64, "HotDisc should fill exactly one cache line");
+// Automatic cell side: kCellsPerDisc / sqrt(number density), but never below one diameter.
+constexpr double kCellsPerDisc = 0.8;
+
+static_assert(sizeof(Scheduled) == 32, "Scheduled should stay 32 bytes");
+
+void Simulation::Engine::advance_disc(HotDisc& d, double t) const {
+  const double dt = t - d.time;
+  if (has_gravity) {
+    d.position += dt * (d.velocity + (0.5 * dt) * gravity);
+    d.velocity += dt * gravity;
+  } else {
+    d.position += dt * d.velocity;
+  }
+  d.time = t;
+}
+
+void Simulation::Engine::link(int i, int cell) {
+  hot[i].cell = cell;
+  hot[i].cx = cell % grid.nx;
+  hot[i].cy = cell / grid.nx;
+  insert_disc(grid, cell, i);
+}
+
+void Simulation::Engine::unlink(int i) { remove_disc(grid, hot[i].cell, i); }
+
+void Simulation::Engine::prepare() {
+  if (!has_table && !periodic && outlines.empty()) {
+    throw std::logic_error("advance: no container; call set_circular_table, set_periodic_box, add_box or add_polygon first");
+  }
+  const int n = static_cast<int>(hot.size());
+  // Region covered by the cells: the period, or the bounding box of all walls.
+  Vec2 lower, upper;
+  if (periodic) {
+    lower = Vec2::Zero();
+    upper = period;
+  } else {
+    lower = Vec2::Constant(kNever);
+    upper = Vec2::Constant(-kNever);
+    for (const Wall& wall : walls) {
+      const double r = wall.kind == WallKind::Circle ? wall.radius : 0.0;
+      const Vec2 b = wall.kind == WallKind::Segment ? wall.b : wall.a;
+      lower = lower.cwiseMin(wall.a.cwiseMin(b) - Vec2::Constant(r));
+      upper = upper.cwiseMax(wall.a.cwiseMax(b) + Vec2::Constant(r));
+    }
+  }
+  const Vec2 extent = upper - lower;
+  // Cell size. At least one largest diameter, so that contacts are between neighbouring cells.
+  // Automatic choice: about one disc per cell on average (side 1/sqrt(number density)), which
+  // at low density makes cells larger than a diameter and crossings rarer; measured with
+  // billiard_bench (see README-performance.md). Never fewer than 3 cells per periodic side
+  // (a neighbour must not be seen twice); set_periodic_box checks the period allows it.
+  const double diameter = std::max(2 * max_radius, 1e-300);
+  double side = diameter;
+  if (cell_size > 0) {
+    side = std::max(cell_size, diameter);
+  } else if (n > 0) {
+    const double density = n / (extent.x() * extent.y());
+    side = std::max(diameter, kCellsPerDisc / std::sqrt(density));
+  }
+  // Memory stays linear in N: at most about 4 cells per disc (plus a few for tiny systems).
+  side = std::max(side, std::sqrt(extent.x() * extent.y() / (4.0 * n + 64)));
+  if (periodic) side = std::min(side, std::min(extent.x(), extent.y()) / 3);
+  grid = make_grid(lower, extent, side, periodic);
+  if (n > 0) set_capacity(grid, capacity_for(grid, min_radius));
+
+  assign_walls(grid, walls, max_radius * (1 + 1e-6) + 1e-12 * extent.norm());
+
+  now = 0.0;
+  for (int i = 0; i < n; ++i) {
+    HotDisc& d = hot[i];
+    if (periodic) {
+      d.position.x() -= period.x() * std::floor(d.position.x() / period.x());
+      d.position.y() -= period.y() * std::floor(d.position.y() / period.y());
+    }
+    link(i, cell_of(grid, d.position));
+  }
+  initial = state_now();
+  std::vector<double> keys(static_cast<std::size_t>(n));
+  queue.assign(keys);  // slots exist; keys are set by predict_full
+  for (int i = 0; i < n; ++i) predict_full(i);
+  for (int i = 0; i < n; ++i) {
+    keys[i] = std::min(scheduled[i].contact_time, scheduled[i].crossing_time);
+  }
+  queue.assign(keys);
+  prepared = true;
+  setup_hash.cells.clear();  // no more discs can be added: free the setup hash
+}
+
+double Simulation::Engine::wall_time(const Wall& wall, const Vec2& r, const Vec2& v, double radius) const {
+  switch (wall.kind) {
+    case WallKind::Segment:
+      return disc_segment_time(r, v, gravity, wall.a, wall.b, radius);
+    case WallKind::Point:
+      return disc_point_time(r, v, gravity, wall.a, radius);
+    case WallKind::Circle:
+      return disc_in_circle_time(r - wall.a, v, gravity, wall.radius - radius);
+  }
+  return kNever;
+}
+
+namespace {
+
+// Pair tests of disc i (at r, v, radius, time t0) against the discs of cell c, whose positions
+// are shifted by `shift` (a periodic image). Gravity is a template parameter so that the common
+// case pays nothing for it. (A branch-free variant, computing the root for every pair and
+// masking it, was measured no faster with billiard_bench at N = 10^4: the early rejections
+// below save the square root and the division for most pairs.)
+template <bool kGravity>
+inline void scan_discs(const BigVector<HotDisc>& hot, const Grid& grid, const Vec2& gravity, int i, int c,
+                       const Vec2& shift, const Vec2& r, const Vec2& v, double radius, double t0, Scheduled& s) {
+  const int* items = cell_discs(grid, c);
+  const int count = cell_disc_count(grid, c);
+  for (int k = 0; k < count; ++k) {
+    const int j = items[k];
+    const HotDisc& o = hot[j];
+    const double dt = t0 - o.time;
+    Vec2 rj = o.position + dt * o.velocity + shift;
+    Vec2 vj = o.velocity;
+    if (kGravity) {
+      rj += (0.5 * dt * dt) * gravity;
+      vj += dt * gravity;
+    }
+    const Vec2 dr = r - rj;
+    const Vec2 dv = v - vj;
+    const double b = dr.dot(dv);
+    if (b >= 0 || j == i) continue;  // flying apart (or grazing), or i itself
+    const double contact = radius + o.radius;
+    const double c2 = dr.squaredNorm() - contact * contact;
+    // Cheap rejection before the square root: the root c / (-b + sqrt(..)) is at least
+    // c / (-2b), so a pair that cannot beat the best event so far is skipped (written as a
+    // product, c >= (best - t0) (-2b), to avoid a division).
+    if (c2 > 0 && c2 >= (s.contact_time - t0) * (-2 * b)) continue;
+    const double discriminant = b * b - dv.squaredNorm() * c2;
+    if (discriminant < 0) continue;  // they miss
+    // Earlier root of dv.dv t^2 + 2 b t + c = 0, stable form; c < 0 (rounding overlap while
+    // approaching) gives a negative root: collide now.
+    const double t = t0 + std::max(c2 / (std::sqrt(discriminant) - b), 0.0);
+    if (t < s.contact_time) {
+      s.contact_time = t;
+      s.partner = j;
+      s.partner_counter = o.counter;
+    }
+  }
+}
+
+// The same pair tests against a list of discs (no periodic shift).
+template <bool kGravity>
+inline void scan_list(const BigVector<HotDisc>& hot, const Vec2& gravity, int i, const int* list, int count,
+                      const Vec2& r, const Vec2& v, double radius, double t0, Scheduled& s) {
+  for (int k = 0; k < count; ++k) {
+    const int j = list[k];
+    const HotDisc& o = hot[j];
+    const double dt = t0 - o.time;
+    Vec2 rj = o.position + dt * o.velocity;
+    Vec2 vj = o.velocity;
+    if (kGravity) {
+      rj += (0.5 * dt * dt) * gravity;
+      vj += dt * gravity;
+    }
+    const Vec2 dr = r - rj;
+    const Vec2 dv = v - vj;
+    const double b = dr.dot(dv);
+    if (b >= 0 || j == i) continue;
+    const double contact = radius + o.radius;
+    const double c2 = dr.squaredNorm() - contact * contact;
+    if (c2 > 0 && c2 >= (s.contact_time - t0) * (-2 * b)) continue;
+    const double discriminant = b * b - dv.squaredNorm() * c2;
+    if (discriminant < 0) continue;
+    const double t = t0 + std::max(c2 / (std::sqrt(discriminant) - b), 0.0);
+    if (t < s.contact_time) {
+      s.contact_time = t;
+      s.partner = j;
+      s.partner_counter = o.counter;
+    }
+  }
+}
+
+}  // namespace
+
+// Pair tests of disc i (at r, v, time now) against the discs of cell (cx, cy), which may lie
+// outside the grid: skipped, or wrapped with the image shift when periodic.
+void Simulation::Engine::scan_cell(int i, int cx, int cy, const Vec2& r, const Vec2& v, Scheduled& s) const {
+  Vec2 shift = Vec2::Zero();
+  if (cx < 0 || cx >= grid.nx) {
+    if (!grid.periodic) return;
+    shift.x() = cx < 0 ? -period.x() : period.x();
+    cx = cx < 0 ? cx + grid.nx : cx - grid.nx;
+  }
+  if (cy < 0 || cy >= grid.ny) {
+    if (!grid.periodic) return;
+    shift.y() = cy < 0 ? -period.y() : period.y();
+    cy = cy < 0 ? cy + grid.ny : cy - grid.ny;
+  }
+  const int c = cx + grid.nx * cy;
+  if (has_gravity) {
+    scan_discs<true>(hot, grid, gravity, i, c, shift, r, v, hot[i].radius, now, s);
+  } else {
+    scan_discs<false>(hot, grid, gravity, i, c, shift, r, v, hot[i].radius, now, s);
+  }
+}
+
+void Simulation::Engine::scan_walls(int cell, const Vec2& r, const Vec2& v, double radius, Scheduled& s) const {
+  for (int k = cell_walls_begin(grid, cell), end = cell_walls_end(grid, cell); k < end; ++k) {
+    const int w = grid.wall_items[k];
+    const double t = now + wall_time(walls[w], r, v, radius);
+    if (t < s.contact_time) {
+      s.contact_time = t;
+      s.partner = kWall;
+      s.wall = w;
+    }
+  }
+}
+
+void Simulation::Engine::set_crossing(int i) {
+  const HotDisc& d = hot[i];
+  // Cell faces (the outer faces of a non-periodic grid at infinity, see cell_bounds).
+  Vec2 lo(grid.lower.x() + d.cx * grid.cell.x(), grid.lower.y() + d.cy * grid.cell.y());
+  Vec2 hi = lo + grid.cell;
+  if (d.cx == grid.nx - 1) hi.x() = grid.periodic ? grid.lower.x() + grid.extent.x() : kNever;
+  if (d.cy == grid.ny - 1) hi.y() = grid.periodic ? grid.lower.y() + grid.extent.y() : kNever;
+  if (!grid.periodic) {
+    if (d.cx == 0) lo.x() = -kNever;
+    if (d.cy == 0) lo.y() = -kNever;
+  }
+  Scheduled& s = scheduled[i];
+  if (!has_gravity) {
+    // Straight line: the face ahead on each axis, t = distance / speed (a disc a hair outside
+    // its cell by rounding gets t < 0: leave now).
+    const double vx = d.velocity.x(), vy = d.velocity.y();
+    const double tx = vx > 0 ? (hi.x() - d.position.x()) / vx : vx < 0 ? (lo.x() - d.position.x()) / vx : kNever;
+    const double ty = vy > 0 ? (hi.y() - d.position.y()) / vy : vy < 0 ? (lo.y() - d.position.y()) / vy : kNever;
+    if (tx <= ty) {
+      s.crossing_time = d.time + std::max(tx, 0.0);
+      s.crossing = vx > 0 ? 0 : 1;
+    } else {
+      s.crossing_time = d.time + std::max(ty, 0.0);
+      s.crossing = vy > 0 ? 2 : 3;
+    }
+    return;
+  }
+  const CellExit exit = cell_exit_time(d.position, d.velocity, gravity, lo, hi);
+  s.crossing_time = d.time + exit.time;
+  s.crossing = 2 * exit.axis + (exit.direction > 0 ? 0 : 1);
+}
+
+void Simulation::Engine::predict_full(int i) {
+  HotDisc& d = hot[i];
+  advance_disc(d, now);
+  Scheduled& s = scheduled[i];
+  s.contact_time = kNever;
+  s.partner = kNoPartner;
+  const int cx = d.cx;
+  const int cy = d.cy;
+  const Vec2 r = d.position;
+  const Vec2 v = d.velocity;
+  if (cx > 0 && cx < grid.nx - 1 && cy > 0 && cy < grid.ny - 1) {
+    // Interior cell (almost all): the 3 x 3 block without wrapping or bounds checks. Gather the
+    // neighbours' indices first and prefetch their states, then test: the cache misses (the
+    // bottleneck from N ~ 10^5 on, when the discs no longer fit in the caches) then overlap
+    // instead of waiting for one another.
+    const std::size_t most = 9 * static_cast<std::size_t>(grid.capacity);
+    if (neighbours.size() < most) neighbours.resize(most);  // the slots may have grown
+    int* list = neighbours.data();
+    int m = 0;
+    for (int dy = -1; dy <= 1; ++dy) {
+      const int row = d.cell + dy * grid.nx;
+      for (int c = row - 1; c <= row + 1; ++c) {
+        const int* items = cell_discs(grid, c);
+        for (int k = 0, count = cell_disc_count(grid, c); k < count; ++k) list[m++] = items[k];
+      }
+    }
+    for (int k = 0; k < m; ++k) __builtin_prefetch(&hot[list[k]]);
+    if (has_gravity) {
+      scan_list<true>(hot, gravity, i, list, m, r, v, d.radius, now, s);
+    } else {
+      scan_list<false>(hot, gravity, i, list, m, r, v, d.radius, now, s);
+    }
+  } else {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) scan_cell(i, cx + dx, cy + dy, r, v, s);
+    }
+  }
+  scan_walls(d.cell, r, v, d.radius, s);
+  set_crossing(i);
+  if (prepared) queue.update(i, std::min(s.contact_time, s.crossing_time));
+}
+
+void Simulation::Engine::cross(int i) {
+  HotDisc& d = hot[i];
+  Scheduled& s = scheduled[i];
+  advance_disc(d, now);
+  const int axis = s.crossing / 2;
+  const int direction = (s.crossing % 2 == 0) ? 1 : -1;
+  int cx = d.cx;
+  int cy = d.cy;
+  int& moved = axis == 0 ? cx : cy;
+  const int count = axis == 0 ? grid.nx : grid.ny;
+  moved += direction;
+  if (moved < 0 || moved >= count) {
+    // Only a periodic grid has finite outer faces: wrap the disc to the other side.
+    moved = moved < 0 ? count - 1 : 0;
+    d.position[axis] -= direction * period[axis];
+  }
+  assert(cx >= 0 && cx < grid.nx && cy >= 0 && cy < grid.ny);
+  unlink(i);
+  link(i, cx + grid.nx * cy);
+  // The contact predicted before is still the best among the old neighbours unless its partner
+  // has collided since; then predict from scratch.
+  if (s.partner >= 0 && hot[s.partner].counter != s.partner_counter) {
+    predict_full(i);
+    return;
+  }
+  // Only the row of cells that just became adjacent is new.
+  const Vec2 r = d.position;
+  const Vec2 v = d.velocity;
+  for (int k = -1; k <= 1; ++k) {
+    if (axis == 0) {
+      scan_cell(i, cx + direction, cy + k, r, v, s);
+    } else {
+      scan_cell(i, cx + k, cy + direction, r, v, s);
+    }
+  }
+  scan_walls(d.cell, r, v, d.radius, s);
+  set_crossing(i);
+  queue.update(i, std::min(s.contact_time, s.crossing_time));
+}
+
+void Simulation::Engine::collide_pair(int i, int j) {
+  assert(i != j && i >= 0 && j >= 0);
+  HotDisc& a = hot[i];
+  HotDisc& b = hot[j];
+  advance_disc(a, now);
+  advance_disc(b, now);
+  Vec2 dr = b.position - a.position;  // from i to j
+  if (periodic) {
+    dr.x() -= period.x() * std::round(dr.x() / period.x());
+    dr.y() -= period.y() * std::round(dr.y() / period.y());
+  }
+  ColdDisc& ca = cold[i];
+  ColdDisc& cb = cold[j];
+  Vec2 q;
+  if (smooth_elastic) {
+    q = collide_smooth_elastic(dr, a.velocity, ca.inverse_mass, b.velocity, cb.inverse_mass);
+  } else {
+    const Vec2 sigma = dr.normalized();
+    ContactBody bi{a.velocity, ca.spin, ca.inverse_mass, ca.inverse_inertia, a.radius};
+    ContactBody bj{b.velocity, cb.spin, cb.inverse_mass, cb.inverse_inertia, b.radius};
+    q = collide(sigma, bi, bj, restitution);
+    a.velocity = bi.velocity;
+    b.velocity = bj.velocity;
+    ca.spin = bi.spin;
+    cb.spin = bj.spin;
+  }
+  totals.virial += -dr.dot(q);  // r_ij . dp_i with r_ij = r_i - r_j = -dr
+  ++a.counter;
+  ++b.counter;
+}
+
+void Simulation::Engine::collide_wall(int i, int w) {
+  HotDisc& d = hot[i];
+  advance_disc(d, now);
+  const Wall& wall = walls[w];
+  // Contact normal from the disc centre towards the wall.
+  const Vec2 normal = wall.kind == WallKind::Circle ? Vec2(d.position - wall.a) : Vec2(closest_point(wall, d.position) - d.position);
+  ColdDisc& c = cold[i];
+  Vec2 q;
+  if (smooth_elastic) {
+    // Mirror reflection v' = v - 2 (v.n) n / (n.n), unnormalised n as in collide_smooth_elastic.
+    const double vn = d.velocity.dot(normal);
+    q = vn > 0 ? Vec2((-2 * vn * c.mass / normal.squaredNorm()) * normal) : Vec2::Zero();
+    d.velocity += c.inverse_mass * q;
+  } else {
+    const Vec2 sigma = normal.normalized();
+    ContactBody body{d.velocity, c.spin, c.inverse_mass, c.inverse_inertia, d.radius};
+    ContactBody fixed{Vec2::Zero(), 0.0, 0.0, 0.0, 0.0};
+    q = collide(sigma, body, fixed, restitution);
+    d.velocity = body.velocity;
+    c.spin = body.spin;
+  }
+  totals.wall_momentum += q.norm();
+  ++d.counter;
+}
+
+void Simulation::Engine::record(EventKind kind, int i, int other, int wall) {
+  EventRecord e;
+  e.time = now;
+  e.kind = kind;
+  e.disc = i;
+  e.other = other;
+  e.wall = wall;
+  e.position = hot[i].position;
+  e.velocity = hot[i].velocity;
+  e.spin = cold[i].spin;
+  if (other >= 0) {
+    e.other_position = hot[other].position;
+    e.other_velocity = hot[other].velocity;
+    e.other_spin = cold[other].spin;
+  }
+  log.push_back(e);
+}
+
+AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_duration) {
+  if (!prepared) prepare();
+  AdvanceResult result;
+  const double start = now;
+  const double end = now + max_duration;
+  // Events at one instant are normal in small numbers (corners, three discs touching); this many
+  // means the dynamics cannot go on (resting contact under gravity, inelastic collapse).
+  const std::int64_t stuck_limit = 1000 + 20 * static_cast<std::int64_t>(hot.size());
+  std::int64_t same_instant = 0;
+  const std::int64_t crossing_limit = 1000000 + 1000 * static_cast<std::int64_t>(hot.size());
+  std::int64_t crossings_in_a_row = 0;
+  double last_time = now;
+  while (result.collisions < max_events && !hot.empty()) {
+    const EventQueue::Entry top = queue.top();
+    if (top.time > end || top.time == kNever) {
+      if (end < kNever) now = end;
+      break;
+    }
+    if (top.time == last_time) {
+      if (++same_instant > stuck_limit) {
+        result.stuck = true;
+        break;
+      }
+    } else {
+      same_instant = 0;
+      last_time = top.time;
+    }
+    now = top.time;
+    const int i = top.disc;
+    Scheduled& s = scheduled[i];
+    if (s.crossing_time <= s.contact_time) {
+      cross(i);
+      ++result.cell_crossings;
+      // Without a duration limit, a system where no collision can ever happen (discs moving in
+      // parallel in a periodic box) would cross cells forever: stop after this many crossings
+      // in a row, far more than any gas needs between two collisions.
+      if (++crossings_in_a_row > crossing_limit && end == kNever) {
+        result.stuck = true;
+        break;
+      }
+      continue;
+    }
+    crossings_in_a_row = 0;
+    if (s.partner >= 0) {
+      const int j = s.partner;
+      if (hot[j].counter != s.partner_counter) {  // j collided since: stale
+        ++result.stale_events;
+        predict_full(i);
+        continue;
+      }
+      collide_pair(i, j);
+      if (logging) record(EventKind::DiscDisc, i, j, kNoWall);
+      predict_full(i);
+      predict_full(j);
+      ++result.disc_collisions;
+    } else {
+      const int w = s.wall;
+      collide_wall(i, w);
+      if (logging) record(EventKind::DiscWall, i, kWall, w);
+      predict_full(i);
+      ++result.wall_collisions;
+    }
+    ++result.collisions;
+    if (validate_every_event) {
+      problem = check();
+      if (!problem.empty()) break;
+    }
+  }
+  result.elapsed = now - start;
+  totals.disc_collisions += result.disc_collisions;
+  totals.wall_collisions += result.wall_collisions;
+  totals.cell_crossings += result.cell_crossings;
+  return result;
+}
+
+State Simulation::Engine::state_now() const {
+  const int n = static_cast<int>(hot.size());
+  State state;
+  state.time = now;
+  state.positions.resize(n, 2);
+  state.velocities.resize(n, 2);
+  state.spins.resize(n);
+  for (int i = 0; i < n; ++i) {
+    HotDisc d = hot[i];
+    advance_disc(d, now);
+    if (periodic) {
+      d.position.x() -= period.x() * std::floor(d.position.x() / period.x());
+      d.position.y() -= period.y() * std::floor(d.position.y() / period.y());
+    }
+    state.positions.row(i) = d.position.transpose();
+    state.velocities.row(i) = d.velocity.transpose();
+    state.spins[i] = cold[i].spin;
+  }
+  return state;
+}
+
+std::string Simulation::Engine::check(double tolerance) const {
+  if (!prepared) return "";
+  const int n = static_cast<int>(hot.size());
+  std::vector<Vec2> r(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    HotDisc d = hot[i];
+    advance_disc(d, now);
+    r[i] = d.position;
+  }
+  std::ostringstream out;
+  out.precision(17);
+  for (int i = 0; i < n; ++i) {
+    const HotDisc& d = hot[i];
+    const double slack = tolerance * d.radius;
+    // Inside the container and off every wall.
+    if (has_table && r[i].norm() > table_radius - d.radius + slack) {
+      out << "disc " << i << " outside the table: |r| = " << r[i].norm() << " > R - a = " << table_radius - d.radius;
+      return out.str();
+    }
+    if (!outlines.empty()) {
+      int inside = 0;
+      for (const Points& outline : outlines) inside += inside_polygon(outline, r[i]) ? 1 : 0;
+      if (inside % 2 == 0) {
+        out << "disc " << i << " at (" << r[i].x() << ", " << r[i].y() << ") outside the walls";
+        return out.str();
+      }
+    }
+    auto check_wall = [&](int w) {
+      const Wall& wall = walls[w];
+      if (wall.kind == WallKind::Circle) return true;
+      const double distance = (closest_point(wall, r[i]) - r[i]).norm();
+      if (distance < d.radius - slack) {
+        out << "disc " << i << " overlaps wall " << w << ": distance " << distance << " < radius " << d.radius;
+        return false;
+      }
+      return true;
+    };
+    if (walls.size() <= 64) {
+      for (int w = 0; w < static_cast<int>(walls.size()); ++w) {
+        if (!check_wall(w)) return out.str();
+      }
+    } else {
+      for (int k = cell_walls_begin(grid, d.cell); k < cell_walls_end(grid, d.cell); ++k) {
+        if (!check_wall(grid.wall_items[k])) return out.str();
+      }
+    }
+    // In its cell (up to rounding).
+    Vec2 lo, hi;
+    cell_bounds(grid, d.cell, lo, hi);
+    const double cell_slack = 1e-9 * grid.cell.maxCoeff();
+    if ((r[i].array() < lo.array() - cell_slack).any() || (r[i].array() > hi.array() + cell_slack).any()) {
+      out << "disc " << i << " at (" << r[i].x() << ", " << r[i].y() << ") is not in its cell " << d.cell;
+      return out.str();
+    }
+    // No overlap with the discs of the neighbouring cells.
+    const int cx = d.cell % grid.nx;
+    const int cy = d.cell / grid.nx;
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        int x = cx + dx, y = cy + dy;
+        Vec2 shift = Vec2::Zero();
+        if (x < 0 || x >= grid.nx || y < 0 || y >= grid.ny) {
+          if (!grid.periodic) continue;
+          if (x < 0) { x += grid.nx; shift.x() = -period.x(); }
+          if (x >= grid.nx) { x -= grid.nx; shift.x() = period.x(); }
+          if (y < 0) { y += grid.ny; shift.y() = -period.y(); }
+          if (y >= grid.ny) { y -= grid.ny; shift.y() = period.y(); }
+        }
+        const int cell = x + grid.nx * y;
+        for (int k = 0; k < cell_disc_count(grid, cell); ++k) {
+          const int j = cell_discs(grid, cell)[k];
+          if (j <= i) continue;
+          const double distance = (r[i] - r[j] - shift).norm();
+          const double contact = d.radius + hot[j].radius;
+          if (distance < contact - tolerance * std::min(d.radius, hot[j].radius)) {
+            out << "discs " << i << " and " << j << " overlap: distance " << distance << " < " << contact
+                << " at time " << now;
+            return out.str();
+          }
+        }
+      }
+    }
+    // The queue key is the disc's next event and lies in the future.
+    const Scheduled& s = scheduled[i];
+    const double key = queue.key(i);
+    if (key != std::min(s.contact_time, s.crossing_time) || key < now) {
+      out << "disc " << i << ": queue key " << key << " does not match its next event (now " << now << ")";
+      return out.str();
+    }
+  }
+  if (!queue.valid()) return "event queue not in heap order";
+  return "";
+}
+
+}  // namespace billiard

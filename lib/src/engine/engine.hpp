@@ -1,0 +1,123 @@
+// Internals of Simulation: the disc arrays, the cells, the queue and the event loop.
+// Not part of the public API (tests may include it on purpose).
+#pragma once
+
+#include "billiard/collide.hpp"
+#include "billiard/disc.hpp"
+#include "billiard/event_queue.hpp"
+#include "billiard/sectors.hpp"
+#include "billiard/simulation.hpp"
+#include "billiard/wall.hpp"
+
+#include <cstdint>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace billiard {
+
+inline constexpr int kNoPartner = -2;  // Scheduled::partner when no contact is predicted
+
+// The hot state of one disc: everything the event loop reads for a pair test or a crossing.
+// 64 bytes, one cache line (checked by a static_assert in engine.cpp). The radius lives here
+// because every pair test needs it; mass, inertia and spin are only needed at collisions.
+struct HotDisc {
+  Vec2 position;    // 16: centre at `time` (lazy: not advanced until an event touches the disc)
+  Vec2 velocity;    // 16: velocity at `time`
+  double time;      //  8: time of the last update
+  double radius;    //  8
+  int counter;      //  4: collisions so far; events remember it to detect staleness
+  int cell;         //  4: cell holding the centre, cx + nx cy
+  int cx;           //  4: its column and row, kept to avoid integer divisions (about 30
+  int cy;           //  4: cycles each) in every prediction
+};
+
+// Cold state: 40 bytes, touched only at collisions and by the state accessors.
+struct ColdDisc {
+  double mass;
+  double inverse_mass;
+  double inertia;
+  double inverse_inertia;
+  double spin;
+};
+
+// What a disc expects next: its earliest contact (disc or wall) as found when predicted, and the
+// time it leaves its cell. The queue's key for the disc is the smaller of the two. Keeping the
+// contact separate lets a cell crossing re-check only the newly adjacent cells. 32 bytes.
+struct Scheduled {
+  double contact_time;   // absolute time, kNever if none
+  double crossing_time;  // absolute time
+  int partner;           // disc index, kWall for a wall, kNoPartner for none
+  int partner_counter;   // the partner's collision counter at prediction (discs only)
+  int wall;              // wall index when partner == kWall
+  int crossing;          // 2 * axis + (direction > 0 ? 0 : 1)
+};
+
+// Spatial hash used while discs are being added (before the grid exists) to refuse overlaps in
+// O(1) per disc.
+struct SetupHash {
+  double cell = 0.0;
+  std::unordered_map<std::int64_t, std::vector<int>> cells;
+};
+
+struct Simulation::Engine {
+  // ---- setup ----
+  std::vector<Wall> walls;
+  std::vector<Points> outlines;  // closed boxes and polygons, for the inside test
+  bool has_table = false;
+  double table_radius = 0.0;
+  bool periodic = false;
+  Vec2 period = Vec2::Zero();
+  Vec2 gravity = Vec2::Zero();
+  bool has_gravity = false;
+  Restitution restitution;
+  bool smooth_elastic = true;
+  double cell_size = 0.0;  // 0: automatic
+
+  // ---- discs ----
+  BigVector<HotDisc> hot;         // huge pages when large: see billiard/memory.hpp
+  std::vector<ColdDisc> cold;
+  BigVector<Scheduled> scheduled;
+  double max_radius = 0.0;
+  double min_radius = kNever;
+  SetupHash setup_hash;
+
+  // ---- run ----
+  bool prepared = false;
+  double now = 0.0;
+  Grid grid;
+  EventQueue queue;
+  std::vector<int> neighbours;  // scratch: the discs of a 3 x 3 block of cells
+  Totals totals;
+  State initial;
+  bool logging = false;
+  std::vector<EventRecord> log;
+  bool validate_every_event = false;
+  std::string problem;
+
+  // Setup helpers (simulation.cpp).
+  void check_disc(const Disc& disc, int index) const;
+  void add_checked_disc(const Disc& disc);
+  void rebuild_setup_hash(double cell);
+  bool overlaps_existing(const Vec2& position, double radius, int& other) const;
+
+  // Event loop (engine.cpp).
+  void prepare();
+  AdvanceResult advance(std::int64_t max_events, double max_duration);
+  void advance_disc(HotDisc& d, double t) const;
+  void predict_full(int i);
+  void cross(int i);
+  void collide_pair(int i, int j);
+  void collide_wall(int i, int wall);
+  double wall_time(const Wall& wall, const Vec2& r, const Vec2& v, double radius) const;
+  void scan_cell(int i, int cx, int cy, const Vec2& r, const Vec2& v, Scheduled& s) const;
+  void scan_walls(int cell, const Vec2& r, const Vec2& v, double radius, Scheduled& s) const;
+  void set_crossing(int i);
+  void link(int i, int cell);
+  void unlink(int i);
+  State state_now() const;
+  std::string check(double tolerance = 1e-9) const;
+  void record(EventKind kind, int i, int other, int wall);
+};
+
+}  // namespace billiard

@@ -1,0 +1,145 @@
+// Sectors: the uniform grid of cells. See billiard/sectors.hpp.
+#include "billiard/sectors.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace billiard {
+
+Grid make_grid(const Vec2& lower, const Vec2& extent, double min_cell, bool periodic) {
+  Grid grid;
+  grid.lower = lower;
+  grid.extent = extent;
+  grid.periodic = periodic;
+  auto count = [&](double length) {
+    // As many cells as fit with side >= min_cell, capped so that a tiny min_cell cannot ask for
+    // billions of cells (the cap keeps memory linear; cells are then just larger than needed).
+    double n = std::floor(length / min_cell);
+    n = std::clamp(n, 1.0, 1.0e5);
+    return static_cast<int>(n);
+  };
+  grid.nx = count(extent.x());
+  grid.ny = count(extent.y());
+  grid.cell = Vec2(extent.x() / grid.nx, extent.y() / grid.ny);
+  grid.capacity = 1;
+  grid.stride = 4;
+  grid.records.assign(static_cast<std::size_t>(grid.nx) * grid.ny * grid.stride, 0);
+  return grid;
+}
+
+int capacity_for(const Grid& grid, double min_radius) {
+  const double densest = M_PI / (2 * std::sqrt(3.0));
+  const double w = grid.cell.x() + 2 * min_radius;
+  const double h = grid.cell.y() + 2 * min_radius;
+  const double bound = densest * w * h / (M_PI * min_radius * min_radius);
+  return static_cast<int>(std::min(bound, 1.0e6)) + 1;
+}
+
+void set_capacity(Grid& grid, int capacity) {
+  const int old_stride = grid.stride;
+  const std::size_t cells = grid.records.size() / old_stride;
+  const int stride = capacity + 3;
+  BigVector<int> records(cells * stride, kNoDisc);
+  for (std::size_t c = 0; c < cells; ++c) {
+    const int* from = &grid.records[c * old_stride];
+    int* to = &records[c * stride];
+    const int count = std::min(from[0], capacity);
+    to[0] = count;
+    to[1] = from[1];
+    to[2] = from[2];
+    for (int k = 0; k < count; ++k) to[3 + k] = from[3 + k];
+  }
+  grid.records.swap(records);
+  grid.capacity = capacity;
+  grid.stride = stride;
+}
+
+void insert_disc(Grid& grid, int c, int i) {
+  if (cell_disc_count(grid, c) == grid.capacity) set_capacity(grid, 2 * grid.capacity);
+  int* record = &grid.records[static_cast<std::size_t>(c) * grid.stride];
+  record[3 + record[0]++] = i;
+}
+
+void remove_disc(Grid& grid, int c, int i) {
+  int* record = &grid.records[static_cast<std::size_t>(c) * grid.stride];
+  int* first = record + 3;
+  const int last = --record[0];
+  for (int k = 0; k < last; ++k) {
+    if (first[k] == i) {
+      first[k] = first[last];
+      break;
+    }
+  }
+  first[last] = kNoDisc;
+}
+
+int cell_of(const Grid& grid, const Vec2& p) {
+  const int cx = std::clamp(static_cast<int>(std::floor((p.x() - grid.lower.x()) / grid.cell.x())), 0, grid.nx - 1);
+  const int cy = std::clamp(static_cast<int>(std::floor((p.y() - grid.lower.y()) / grid.cell.y())), 0, grid.ny - 1);
+  return cx + grid.nx * cy;
+}
+
+void cell_bounds(const Grid& grid, int c, Vec2& lo, Vec2& hi) {
+  const int cx = c % grid.nx;
+  const int cy = c / grid.nx;
+  lo = Vec2(grid.lower.x() + cx * grid.cell.x(), grid.lower.y() + cy * grid.cell.y());
+  hi = Vec2(grid.lower.x() + (cx + 1) * grid.cell.x(), grid.lower.y() + (cy + 1) * grid.cell.y());
+  if (cx == grid.nx - 1) hi.x() = grid.periodic ? grid.lower.x() + grid.extent.x() : kNever;
+  if (cy == grid.ny - 1) hi.y() = grid.periodic ? grid.lower.y() + grid.extent.y() : kNever;
+  if (!grid.periodic) {
+    if (cx == 0) lo.x() = -kNever;
+    if (cy == 0) lo.y() = -kNever;
+  }
+}
+
+void assign_walls(Grid& grid, const std::vector<Wall>& walls, double reach) {
+  const int cells = grid.nx * grid.ny;
+  std::vector<std::vector<int>> lists(static_cast<std::size_t>(cells));
+  for (int k = 0; k < static_cast<int>(walls.size()); ++k) {
+    const Wall& wall = walls[k];
+    // Only the cells of the wall's bounding box grown by `reach` can be near it.
+    Vec2 box_lo, box_hi;
+    if (wall.kind == WallKind::Circle) {
+      box_lo = wall.a - Vec2::Constant(wall.radius + reach);
+      box_hi = wall.a + Vec2::Constant(wall.radius + reach);
+    } else {
+      const Vec2 b = wall.kind == WallKind::Segment ? wall.b : wall.a;
+      box_lo = wall.a.cwiseMin(b) - Vec2::Constant(reach);
+      box_hi = wall.a.cwiseMax(b) + Vec2::Constant(reach);
+    }
+    const int c_lo = cell_of(grid, box_lo);
+    const int c_hi = cell_of(grid, box_hi);
+    for (int cy = c_lo / grid.nx; cy <= c_hi / grid.nx; ++cy) {
+      for (int cx = c_lo % grid.nx; cx <= c_hi % grid.nx; ++cx) {
+        const Vec2 lo(grid.lower.x() + cx * grid.cell.x(), grid.lower.y() + cy * grid.cell.y());
+        const Vec2 hi = lo + grid.cell;
+        bool near = false;
+        switch (wall.kind) {
+          case WallKind::Segment:
+            near = segment_rectangle_distance(wall.a, wall.b, lo, hi) <= reach;
+            break;
+          case WallKind::Point:
+            near = point_rectangle_distance(wall.a, lo, hi) <= reach;
+            break;
+          case WallKind::Circle: {
+            // A disc of radius <= reach centred in the cell can touch the rim only if the cell
+            // reaches out to distance radius - reach from the centre.
+            const Vec2 far = (lo - wall.a).cwiseAbs().cwiseMax((hi - wall.a).cwiseAbs());
+            near = far.norm() >= wall.radius - reach;
+            break;
+          }
+        }
+        if (near) lists[cx + grid.nx * cy].push_back(k);
+      }
+    }
+  }
+  grid.wall_items.clear();
+  for (int c = 0; c < cells; ++c) {
+    int* record = &grid.records[static_cast<std::size_t>(c) * grid.stride];
+    record[1] = static_cast<int>(grid.wall_items.size());
+    grid.wall_items.insert(grid.wall_items.end(), lists[c].begin(), lists[c].end());
+    record[2] = static_cast<int>(grid.wall_items.size());
+  }
+}
+
+}  // namespace billiard

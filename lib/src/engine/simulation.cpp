@@ -1,0 +1,465 @@
+// The public Simulation: input checks at the API boundary, setup, state accessors and replay.
+// The event loop itself is in engine.cpp.
+#include "billiard/simulation.hpp"
+
+#include "engine.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace billiard {
+namespace {
+
+std::string number(double x) {
+  std::ostringstream out;
+  out.precision(17);
+  out << x;
+  return out.str();
+}
+
+std::string vec(const Vec2& v) { return "(" + number(v.x()) + ", " + number(v.y()) + ")"; }
+
+[[noreturn]] void refuse(const std::string& message) { throw std::invalid_argument(message); }
+
+bool finite(const Vec2& v) { return std::isfinite(v.x()) && std::isfinite(v.y()); }
+
+void require_setup(const Simulation::Engine& e, const char* call) {
+  if (e.prepared) {
+    throw std::logic_error(std::string(call) + ": the simulation has started; discs, walls, the container and gravity are fixed after the first advance()");
+  }
+}
+
+// Key of hash cell (ix, iy): the two 32-bit halves (shifted as unsigned: shifting a negative
+// signed value is undefined behaviour).
+std::int64_t hash_key(std::int64_t ix, std::int64_t iy) {
+  return static_cast<std::int64_t>((static_cast<std::uint64_t>(ix) << 32) ^ (static_cast<std::uint64_t>(iy) & 0xffffffffULL));
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Setup helpers
+// ---------------------------------------------------------------------------------------------
+
+void Simulation::Engine::rebuild_setup_hash(double cell) {
+  setup_hash.cell = cell;
+  setup_hash.cells.clear();
+  for (int i = 0; i < static_cast<int>(hot.size()); ++i) {
+    const Vec2& p = hot[i].position;
+    setup_hash.cells[hash_key(static_cast<std::int64_t>(std::floor(p.x() / cell)),
+                              static_cast<std::int64_t>(std::floor(p.y() / cell)))].push_back(i);
+  }
+}
+
+bool Simulation::Engine::overlaps_existing(const Vec2& position, double radius, int& other) const {
+  if (hot.empty()) return false;
+  auto overlap = [&](int j) {
+    Vec2 d = position - hot[j].position;
+    if (periodic) {
+      d.x() -= period.x() * std::round(d.x() / period.x());
+      d.y() -= period.y() * std::round(d.y() / period.y());
+    }
+    const double contact = radius + hot[j].radius;
+    return d.squaredNorm() < contact * contact;
+  };
+  const double h = setup_hash.cell;
+  const int reach = static_cast<int>(std::ceil((radius + max_radius) / h));
+  // In a periodic box an image across the boundary can overlap: check the wrapped positions too.
+  const int images = periodic ? 1 : 0;
+  for (int sy = -images; sy <= images; ++sy) {
+    for (int sx = -images; sx <= images; ++sx) {
+      const Vec2 p = position + Vec2(sx * period.x(), sy * period.y());
+      const std::int64_t cx = static_cast<std::int64_t>(std::floor(p.x() / h));
+      const std::int64_t cy = static_cast<std::int64_t>(std::floor(p.y() / h));
+      for (std::int64_t y = cy - reach; y <= cy + reach; ++y) {
+        for (std::int64_t x = cx - reach; x <= cx + reach; ++x) {
+          const auto found = setup_hash.cells.find(hash_key(x, y));
+          if (found == setup_hash.cells.end()) continue;
+          for (int j : found->second) {
+            if (overlap(j)) {
+              other = j;
+              return true;
+            }
+          }
+        }
+      }
+    }
+  }
+  return false;
+}
+
+void Simulation::Engine::check_disc(const Disc& disc, int index) const {
+  const std::string who = "disc " + std::to_string(index);
+  if (!finite(disc.position)) refuse(who + ": position must be finite, got " + vec(disc.position));
+  if (!finite(disc.velocity)) refuse(who + ": velocity must be finite, got " + vec(disc.velocity));
+  if (!(disc.radius > 0) || !std::isfinite(disc.radius)) refuse(who + ": radius must be positive and finite, got " + number(disc.radius));
+  if (!(disc.mass > 0) || !std::isfinite(disc.mass)) refuse(who + ": mass must be positive and finite, got " + number(disc.mass));
+  if (disc.inertia && (!(*disc.inertia > 0) || !std::isfinite(*disc.inertia))) {
+    refuse(who + ": inertia must be positive and finite, got " + number(*disc.inertia));
+  }
+  if (!std::isfinite(disc.spin)) refuse(who + ": spin must be finite, got " + number(disc.spin));
+  const Vec2& r = disc.position;
+  const double a = disc.radius;
+  if (has_table && r.norm() > table_radius - a) {
+    refuse(who + ": position " + vec(r) + " is outside the table: |r| = " + number(r.norm()) + " > R - radius = " + number(table_radius - a));
+  }
+  if (periodic) {
+    if (r.x() < 0 || r.x() >= period.x() || r.y() < 0 || r.y() >= period.y()) {
+      refuse(who + ": position " + vec(r) + " is outside the periodic box [0, " + number(period.x()) + ") x [0, " + number(period.y()) + ")");
+    }
+    if (6 * a > std::min(period.x(), period.y())) {
+      refuse(who + ": radius " + number(a) + " is too large for the periodic box (need 6 radius <= " + number(std::min(period.x(), period.y())) + ")");
+    }
+  }
+  if (!outlines.empty()) {
+    int inside = 0;
+    for (const Points& outline : outlines) inside += inside_polygon(outline, r) ? 1 : 0;
+    if (inside % 2 == 0) refuse(who + ": position " + vec(r) + " is outside the walls");
+  }
+  for (int w = 0; w < static_cast<int>(walls.size()); ++w) {
+    if (walls[w].kind == WallKind::Circle) continue;
+    const double distance = (closest_point(walls[w], r) - r).norm();
+    if (distance < a) refuse(who + ": at " + vec(r) + " overlaps wall " + std::to_string(w) + " (distance " + number(distance) + " < radius " + number(a) + ")");
+  }
+}
+
+void Simulation::Engine::add_checked_disc(const Disc& disc) {
+  HotDisc d;
+  d.position = disc.position;
+  d.velocity = disc.velocity;
+  d.time = 0.0;
+  d.radius = disc.radius;
+  d.counter = 0;
+  d.cell = 0;
+  d.cx = d.cy = 0;
+  hot.push_back(d);
+  ColdDisc c;
+  c.mass = disc.mass;
+  c.inverse_mass = 1.0 / disc.mass;
+  c.inertia = disc.inertia ? *disc.inertia : 0.5 * disc.mass * disc.radius * disc.radius;
+  c.inverse_inertia = 1.0 / c.inertia;
+  c.spin = disc.spin;
+  cold.push_back(c);
+  scheduled.push_back(Scheduled{kNever, kNever, kNoPartner, 0, kNoWall, 0});
+  const int i = static_cast<int>(hot.size()) - 1;
+  min_radius = std::min(min_radius, disc.radius);
+  if (disc.radius > max_radius) {
+    max_radius = disc.radius;
+    rebuild_setup_hash(2 * max_radius);
+  } else {
+    const Vec2& p = disc.position;
+    setup_hash.cells[hash_key(static_cast<std::int64_t>(std::floor(p.x() / setup_hash.cell)),
+                              static_cast<std::int64_t>(std::floor(p.y() / setup_hash.cell)))].push_back(i);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Simulation
+// ---------------------------------------------------------------------------------------------
+
+Simulation::Simulation() : engine_(std::make_unique<Engine>()) {}
+Simulation::~Simulation() = default;
+Simulation::Simulation(Simulation&&) noexcept = default;
+Simulation& Simulation::operator=(Simulation&&) noexcept = default;
+Simulation::Simulation(const Simulation& other) : engine_(std::make_unique<Engine>(*other.engine_)) {}
+Simulation& Simulation::operator=(const Simulation& other) {
+  if (this != &other) engine_ = std::make_unique<Engine>(*other.engine_);
+  return *this;
+}
+
+void Simulation::set_circular_table(double radius) {
+  Engine& e = *engine_;
+  require_setup(e, "set_circular_table");
+  if (!(radius > 0) || !std::isfinite(radius)) refuse("set_circular_table: radius must be positive and finite, got " + number(radius));
+  if (e.has_table) refuse("set_circular_table: the table is already set (radius " + number(e.table_radius) + ")");
+  if (e.periodic) refuse("set_circular_table: a periodic box has no walls; choose one container");
+  for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
+    if (e.hot[i].position.norm() > radius - e.hot[i].radius) {
+      refuse("set_circular_table: radius " + number(radius) + " leaves disc " + std::to_string(i) + " at " + vec(e.hot[i].position) + " outside");
+    }
+  }
+  e.has_table = true;
+  e.table_radius = radius;
+  e.walls.push_back(Wall{WallKind::Circle, Vec2::Zero(), Vec2::Zero(), radius});
+}
+
+void Simulation::set_periodic_box(double width, double height) {
+  Engine& e = *engine_;
+  require_setup(e, "set_periodic_box");
+  if (!(width > 0) || !std::isfinite(width)) refuse("set_periodic_box: width must be positive and finite, got " + number(width));
+  if (!(height > 0) || !std::isfinite(height)) refuse("set_periodic_box: height must be positive and finite, got " + number(height));
+  if (!e.walls.empty() || e.periodic) refuse("set_periodic_box: the periodic box must be the only container (walls or a box are already set)");
+  for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
+    const Vec2& r = e.hot[i].position;
+    if (r.x() < 0 || r.x() >= width || r.y() < 0 || r.y() >= height) {
+      refuse("set_periodic_box: disc " + std::to_string(i) + " at " + vec(r) + " is outside [0, " + number(width) + ") x [0, " + number(height) + ")");
+    }
+  }
+  if (6 * e.max_radius > std::min(width, height)) {
+    refuse("set_periodic_box: the box " + number(width) + " x " + number(height) + " must be at least 6 largest radii (" + number(6 * e.max_radius) + ") wide");
+  }
+  e.periodic = true;
+  e.period = Vec2(width, height);
+  e.rebuild_setup_hash(e.setup_hash.cell > 0 ? e.setup_hash.cell : 1.0);
+  // Discs added before may overlap through the boundary.
+  for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
+    int other = -1;
+    const HotDisc saved = e.hot[i];
+    // Check i against all others except itself: temporarily move it far away.
+    e.hot[i].position = Vec2::Constant(kNever);
+    const bool bad = e.overlaps_existing(saved.position, saved.radius, other) && other != i;
+    e.hot[i] = saved;
+    if (bad) {
+      e.periodic = false;
+      e.period = Vec2::Zero();
+      refuse("set_periodic_box: disc " + std::to_string(i) + " overlaps disc " + std::to_string(other) + " across the periodic boundary");
+    }
+  }
+}
+
+int Simulation::add_segment(const Vec2& a, const Vec2& b) {
+  Engine& e = *engine_;
+  require_setup(e, "add_segment");
+  if (!finite(a)) refuse("add_segment: a must be finite, got " + vec(a));
+  if (!finite(b)) refuse("add_segment: b must be finite, got " + vec(b));
+  if (a == b) refuse("add_segment: a and b must differ, both are " + vec(a));
+  if (e.periodic) refuse("add_segment: walls inside a periodic box are not supported");
+  const Wall segment{WallKind::Segment, a, b, 0.0};
+  for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
+    const double distance = (closest_point(segment, e.hot[i].position) - e.hot[i].position).norm();
+    if (distance < e.hot[i].radius) {
+      refuse("add_segment: segment " + vec(a) + "-" + vec(b) + " overlaps disc " + std::to_string(i) + " at " + vec(e.hot[i].position));
+    }
+  }
+  const int index = static_cast<int>(e.walls.size());
+  e.walls.push_back(segment);
+  for (const Vec2& p : {a, b}) {
+    bool known = false;
+    for (const Wall& w : e.walls) known = known || (w.kind == WallKind::Point && w.a == p);
+    if (!known) e.walls.push_back(Wall{WallKind::Point, p, p, 0.0});
+  }
+  return index;
+}
+
+void Simulation::add_polygon(const Points& vertices) {
+  Engine& e = *engine_;
+  require_setup(e, "add_polygon");
+  const int n = static_cast<int>(vertices.rows());
+  if (n < 3) refuse("add_polygon: vertices needs at least 3 rows, got " + std::to_string(n));
+  for (int k = 0; k < n; ++k) {
+    const Vec2 p = vertices.row(k).transpose();
+    if (!finite(p)) refuse("add_polygon: vertex " + std::to_string(k) + " must be finite, got " + vec(p));
+    const Vec2 q = vertices.row((k + 1) % n).transpose();
+    if (p == q) refuse("add_polygon: vertices " + std::to_string(k) + " and " + std::to_string((k + 1) % n) + " coincide at " + vec(p));
+  }
+  if (e.periodic) refuse("add_polygon: walls inside a periodic box are not supported");
+  // All or nothing: check every disc against the new sides and the new inside test first.
+  std::vector<Points> outlines = e.outlines;
+  outlines.push_back(vertices);
+  for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
+    const Vec2& r = e.hot[i].position;
+    int inside = 0;
+    for (const Points& outline : outlines) inside += inside_polygon(outline, r) ? 1 : 0;
+    if (inside % 2 == 0) refuse("add_polygon: disc " + std::to_string(i) + " at " + vec(r) + " would be outside the walls");
+    for (int k = 0; k < n; ++k) {
+      const double distance = distance_to_segment(r, vertices.row(k).transpose(), vertices.row((k + 1) % n).transpose());
+      if (distance < e.hot[i].radius) refuse("add_polygon: side " + std::to_string(k) + " overlaps disc " + std::to_string(i) + " at " + vec(r));
+    }
+  }
+  for (int k = 0; k < n; ++k) add_segment(vertices.row(k).transpose(), vertices.row((k + 1) % n).transpose());
+  e.outlines = std::move(outlines);
+}
+
+void Simulation::add_box(const Vec2& lower, const Vec2& upper) {
+  if (!finite(lower)) refuse("add_box: lower must be finite, got " + vec(lower));
+  if (!finite(upper)) refuse("add_box: upper must be finite, got " + vec(upper));
+  if (!(upper.x() > lower.x()) || !(upper.y() > lower.y())) refuse("add_box: upper " + vec(upper) + " must exceed lower " + vec(lower) + " in x and y");
+  Points corners(4, 2);
+  corners << lower.x(), lower.y(), upper.x(), lower.y(), upper.x(), upper.y(), lower.x(), upper.y();
+  add_polygon(corners);
+}
+
+void Simulation::set_gravity(const Vec2& g) {
+  Engine& e = *engine_;
+  require_setup(e, "set_gravity");
+  if (!finite(g)) refuse("set_gravity: g must be finite, got " + vec(g));
+  e.gravity = g;
+  e.has_gravity = g.x() != 0 || g.y() != 0;
+}
+
+void Simulation::set_restitution(double normal, double tangential) {
+  if (!(normal >= 0 && normal <= 1)) refuse("set_restitution: normal must be in [0, 1], got " + number(normal));
+  if (!(tangential >= -1 && tangential <= 1)) refuse("set_restitution: tangential must be in [-1, 1], got " + number(tangential));
+  Engine& e = *engine_;
+  e.restitution = Restitution{normal, tangential};
+  e.smooth_elastic = normal == 1 && tangential == -1;
+}
+
+void Simulation::set_cell_size(double size) {
+  Engine& e = *engine_;
+  require_setup(e, "set_cell_size");
+  if (!(size >= 0) || !std::isfinite(size)) refuse("set_cell_size: size must be >= 0 and finite (0 = automatic), got " + number(size));
+  e.cell_size = size;
+}
+
+int Simulation::add_disc(const Disc& disc) {
+  Engine& e = *engine_;
+  require_setup(e, "add_disc");
+  const int index = static_cast<int>(e.hot.size());
+  e.check_disc(disc, index);
+  if (e.hot.empty() || e.setup_hash.cell <= 0) e.setup_hash.cell = 2 * disc.radius;
+  int other = -1;
+  if (e.overlaps_existing(disc.position, disc.radius, other)) {
+    refuse("disc " + std::to_string(index) + ": at " + vec(disc.position) + " overlaps disc " + std::to_string(other) + " at " + vec(e.hot[other].position));
+  }
+  e.add_checked_disc(disc);
+  return index;
+}
+
+int Simulation::add_discs(const Points& positions, const Points& velocities, double radius, double mass) {
+  Engine& e = *engine_;
+  require_setup(e, "add_discs");
+  if (velocities.rows() != positions.rows()) {
+    refuse("add_discs: velocities has " + std::to_string(velocities.rows()) + " rows, positions " + std::to_string(positions.rows()));
+  }
+  const int first = static_cast<int>(e.hot.size());
+  const Engine saved = e;  // all or nothing
+  try {
+    for (Eigen::Index k = 0; k < positions.rows(); ++k) {
+      Disc disc;
+      disc.position = positions.row(k).transpose();
+      disc.velocity = velocities.row(k).transpose();
+      disc.radius = radius;
+      disc.mass = mass;
+      add_disc(disc);
+    }
+  } catch (...) {
+    e = saved;
+    throw;
+  }
+  return first;
+}
+
+AdvanceResult Simulation::advance(std::int64_t max_events, double max_duration) {
+  if (max_events < 0) refuse("advance: max_events must be >= 0, got " + std::to_string(max_events));
+  if (!(max_duration >= 0)) refuse("advance: max_duration must be >= 0, got " + number(max_duration));
+  return engine_->advance(max_events, max_duration);
+}
+
+int Simulation::size() const { return static_cast<int>(engine_->hot.size()); }
+double Simulation::time() const { return engine_->now; }
+State Simulation::current_state() const { return engine_->state_now(); }
+const State& Simulation::initial_state() const {
+  Engine& e = *engine_;
+  if (!e.prepared) e.initial = e.state_now();
+  return e.initial;
+}
+const std::vector<Wall>& Simulation::walls() const { return engine_->walls; }
+Totals Simulation::totals() const { return engine_->totals; }
+
+double Simulation::kinetic_energy() const {
+  const Engine& e = *engine_;
+  double sum = 0;
+  for (std::size_t i = 0; i < e.hot.size(); ++i) {
+    HotDisc d = e.hot[i];
+    e.advance_disc(d, e.now);
+    sum += 0.5 * e.cold[i].mass * d.velocity.squaredNorm() + 0.5 * e.cold[i].inertia * e.cold[i].spin * e.cold[i].spin;
+  }
+  return sum;
+}
+
+double Simulation::potential_energy() const {
+  const Engine& e = *engine_;
+  double sum = 0;
+  for (std::size_t i = 0; i < e.hot.size(); ++i) {
+    HotDisc d = e.hot[i];
+    e.advance_disc(d, e.now);
+    sum -= e.cold[i].mass * e.gravity.dot(d.position);
+  }
+  return sum;
+}
+
+double Simulation::memory_bytes() const {
+  const Engine& e = *engine_;
+  return static_cast<double>(e.hot.capacity() * sizeof(HotDisc) + e.cold.capacity() * sizeof(ColdDisc) +
+                             e.scheduled.capacity() * sizeof(Scheduled) + e.queue.memory_bytes() +
+                             e.grid.records.capacity() * sizeof(int) +
+                             e.grid.wall_items.capacity() * sizeof(int) + e.log.capacity() * sizeof(EventRecord));
+}
+
+int Simulation::cell_count() const { return engine_->prepared ? engine_->grid.nx * engine_->grid.ny : 0; }
+
+void Simulation::enable_event_log(bool on) { engine_->logging = on; }
+void Simulation::clear_event_log() { engine_->log.clear(); }
+const std::vector<EventRecord>& Simulation::event_log() const { return engine_->log; }
+
+namespace {
+
+// Rebuilds the state at `time` from the initial state and the logged events with index < count:
+// between events every disc moves freely, so the last logged position and velocity of each disc
+// and the time they were logged determine it.
+State replay(const State& initial, const std::vector<EventRecord>& log, std::size_t count, double time,
+             const Vec2& gravity, bool periodic, const Vec2& period) {
+  State state = initial;
+  const Eigen::Index n = initial.positions.rows();
+  Eigen::VectorXd since = Eigen::VectorXd::Constant(n, initial.time);
+  for (std::size_t k = 0; k < count && k < log.size(); ++k) {
+    const EventRecord& e = log[k];
+    state.positions.row(e.disc) = e.position.transpose();
+    state.velocities.row(e.disc) = e.velocity.transpose();
+    state.spins[e.disc] = e.spin;
+    since[e.disc] = e.time;
+    if (e.other >= 0) {
+      state.positions.row(e.other) = e.other_position.transpose();
+      state.velocities.row(e.other) = e.other_velocity.transpose();
+      state.spins[e.other] = e.other_spin;
+      since[e.other] = e.time;
+    }
+  }
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double dt = time - since[i];
+    Vec2 r = state.positions.row(i).transpose();
+    Vec2 v = state.velocities.row(i).transpose();
+    r += dt * (v + 0.5 * dt * gravity);
+    v += dt * gravity;
+    if (periodic) {
+      r.x() -= period.x() * std::floor(r.x() / period.x());
+      r.y() -= period.y() * std::floor(r.y() / period.y());
+    }
+    state.positions.row(i) = r.transpose();
+    state.velocities.row(i) = v.transpose();
+  }
+  state.time = time;
+  return state;
+}
+
+}  // namespace
+
+State Simulation::replay_after_event(std::size_t k) const {
+  const Engine& e = *engine_;
+  if (k >= e.log.size()) refuse("replay_after_event: k must be < the log size " + std::to_string(e.log.size()) + ", got " + std::to_string(k));
+  return replay(initial_state(), e.log, k + 1, e.log[k].time, e.gravity, e.periodic, e.period);
+}
+
+State Simulation::replay_at(double t) const {
+  const Engine& e = *engine_;
+  if (!std::isfinite(t) || t < initial_state().time) refuse("replay_at: time must be finite and >= the initial time, got " + number(t));
+  // Events at or before t, found by binary search on the log's times.
+  const auto end = std::upper_bound(e.log.begin(), e.log.end(), t,
+                                    [](double time, const EventRecord& record) { return time < record.time; });
+  return replay(initial_state(), e.log, static_cast<std::size_t>(end - e.log.begin()), t, e.gravity, e.periodic, e.period);
+}
+
+std::string Simulation::validate(double tolerance) {
+  if (!(tolerance >= 0)) refuse("validate: tolerance must be >= 0, got " + number(tolerance));
+  Engine& e = *engine_;
+  e.problem = e.check(tolerance);
+  return e.problem;
+}
+
+void Simulation::set_validate_every_event(bool on) { engine_->validate_every_event = on; }
+const std::string& Simulation::last_problem() const { return engine_->problem; }
+
+}  // namespace billiard

@@ -1,0 +1,75 @@
+// Helpers shared by the engine tests: random systems that are valid by construction.
+#pragma once
+
+#include "billiard/simulation.hpp"
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+namespace engine_test {
+
+using billiard::Vec2;
+
+struct RandomDiscs {
+  std::vector<Vec2> positions;
+  std::vector<Vec2> velocities;
+  std::vector<double> radii;
+};
+
+// n discs with radii in [radius_lo, radius_hi] placed by random sequential addition where
+// `inside(position, radius)` accepts them, without overlaps; Gaussian velocities.
+template <class Inside>
+RandomDiscs random_discs(std::mt19937_64& rng, int n, double radius_lo, double radius_hi, const Vec2& lo,
+                         const Vec2& hi, Inside inside) {
+  RandomDiscs d;
+  std::uniform_real_distribution<double> ux(lo.x(), hi.x()), uy(lo.y(), hi.y()), ur(radius_lo, radius_hi);
+  std::normal_distribution<double> normal;
+  int attempts = 0;
+  while (static_cast<int>(d.positions.size()) < n && ++attempts < 1000000) {
+    const Vec2 p(ux(rng), uy(rng));
+    const double a = radius_lo == radius_hi ? radius_lo : ur(rng);
+    if (!inside(p, a)) continue;
+    bool free = true;
+    for (std::size_t k = 0; k < d.positions.size() && free; ++k) {
+      free = (p - d.positions[k]).norm() >= a + d.radii[k] + 1e-9;
+    }
+    if (!free) continue;
+    d.positions.push_back(p);
+    d.radii.push_back(a);
+    d.velocities.emplace_back(normal(rng), normal(rng));
+  }
+  return d;
+}
+
+inline void add_all(billiard::Simulation& sim, const RandomDiscs& d, double mass = 1.0) {
+  for (std::size_t k = 0; k < d.positions.size(); ++k) {
+    billiard::Disc disc;
+    disc.position = d.positions[k];
+    disc.velocity = d.velocities[k];
+    disc.radius = d.radii[k];
+    disc.mass = mass;
+    sim.add_disc(disc);
+  }
+}
+
+inline billiard::Disc make_disc(const Vec2& position, const Vec2& velocity, double radius = 1.0, double mass = 1.0) {
+  billiard::Disc disc;
+  disc.position = position;
+  disc.velocity = velocity;
+  disc.radius = radius;
+  disc.mass = mass;
+  return disc;
+}
+
+// Angular momentum about the origin, sum m r x v + I w (masses 1 unless given).
+inline double angular_momentum(const billiard::State& s, const std::vector<double>& masses = {}) {
+  double l = 0;
+  for (Eigen::Index i = 0; i < s.positions.rows(); ++i) {
+    const double m = masses.empty() ? 1.0 : masses[static_cast<std::size_t>(i)];
+    l += m * (s.positions(i, 0) * s.velocities(i, 1) - s.positions(i, 1) * s.velocities(i, 0));
+  }
+  return l;
+}
+
+}  // namespace engine_test

@@ -1,0 +1,118 @@
+// Stage 2: uniform gravity. Free fall and bounces with known times, the quartic circular wall,
+// and conservation of kinetic plus potential energy.
+#include "billiard/simulation.hpp"
+#include "helpers.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using billiard::Vec2;
+using engine_test::make_disc;
+
+TEST(Gravity, FreeFallOntoAFloorBouncesEveryTwoVOverG) {
+  // Box [0, 100]^2, g = 10 downwards, radius 1 released at rest with its lowest point 20 above the
+  // floor: lands at t = sqrt(2 h / g) = 2 with speed v = g t = 20, and (elastic) bounces back to
+  // the same height: landings every 2 v / g = 4, at 2, 6, 10, 14, 18. Tolerance 1e-12: rounding
+  // of the quadratic roots accumulates over the bounces.
+  billiard::Simulation sim;
+  sim.add_box(Vec2(0, 0), Vec2(100, 100));
+  sim.set_gravity(Vec2(0, -10));
+  sim.add_disc(make_disc(Vec2(50, 21), Vec2(0, 0)));
+  sim.enable_event_log(true);
+  sim.advance(5);
+  ASSERT_EQ(sim.event_log().size(), 5u);
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_NEAR(sim.event_log()[k].time, 2.0 + 4.0 * k, 1e-12) << "bounce " << k;
+    EXPECT_NEAR(sim.event_log()[k].velocity.y(), 20.0, 1e-10);
+  }
+}
+
+TEST(Gravity, DiscDroppedInTheCircularTable) {
+  // Table R = 10, radius 1, released at rest at the centre with g = 2 downwards: reaches the
+  // rim (reach 9) at t = sqrt(2 * 9 / 2) = 3, bounces straight up, is back at the centre at rest
+  // at t = 6 and lands again at t = 9: landings every 6.
+  billiard::Simulation sim;
+  sim.set_circular_table(10);
+  sim.set_gravity(Vec2(0, -2));
+  sim.add_disc(make_disc(Vec2(0, 0), Vec2(0, 0)));
+  sim.enable_event_log(true);
+  sim.advance(3);
+  ASSERT_EQ(sim.event_log().size(), 3u);
+  EXPECT_NEAR(sim.event_log()[0].time, 3.0, 1e-12);
+  EXPECT_NEAR(sim.event_log()[1].time, 9.0, 1e-11);
+  EXPECT_NEAR(sim.event_log()[2].time, 15.0, 1e-11);
+  EXPECT_NEAR(sim.event_log()[0].position.y(), -9.0, 1e-11);
+}
+
+TEST(Gravity, SidewaysGravityAnyDirection) {
+  // Gravity along +x of 8: from rest at x = 5 in the box [0, 20]^2 (radius 1), the wall x = 20 is
+  // reached when 14 = 4 t^2: t = sqrt(3.5).
+  billiard::Simulation sim;
+  sim.add_box(Vec2(0, 0), Vec2(20, 20));
+  sim.set_gravity(Vec2(8, 0));
+  sim.add_disc(make_disc(Vec2(5, 10), Vec2(0, 0)));
+  sim.enable_event_log(true);
+  sim.advance(1);
+  ASSERT_EQ(sim.event_log().size(), 1u);
+  EXPECT_NEAR(sim.event_log()[0].time, std::sqrt(3.5), 1e-13);
+}
+
+namespace {
+void random_gravity_run(billiard::Simulation& sim, int n, std::int64_t events, std::uint64_t seed, const Vec2& lo,
+                        const Vec2& hi, bool table, double table_radius) {
+  std::mt19937_64 rng(seed);
+  const auto discs = engine_test::random_discs(rng, n, 0.5, 1.0, lo, hi, [&](const Vec2& p, double a) {
+    if (table) return p.norm() <= table_radius - a;
+    return p.x() >= lo.x() + a && p.x() <= hi.x() - a && p.y() >= lo.y() + a && p.y() <= hi.y() - a;
+  });
+  engine_test::add_all(sim, discs);
+  const double e0 = sim.kinetic_energy() + sim.potential_energy();
+  sim.set_validate_every_event(true);
+  const auto result = sim.advance(events);
+  EXPECT_EQ(sim.last_problem(), "");
+  EXPECT_FALSE(result.stuck);
+  EXPECT_EQ(result.collisions, events);
+  // Kinetic plus potential energy: conserved to rounding. Positions enter the potential, so
+  // the rounding walk is larger than without gravity: 1e-10 relative.
+  const double e1 = sim.kinetic_energy() + sim.potential_energy();
+  EXPECT_NEAR(e1, e0, 1e-10 * std::abs(e0));
+}
+}  // namespace
+
+TEST(Gravity, RandomRunInABoxKeepsEnergyAndNeverOverlaps) {
+  billiard::Simulation sim;
+  sim.add_box(Vec2(0, 0), Vec2(20, 20));
+  sim.set_gravity(Vec2(0.3, -1));
+  random_gravity_run(sim, 40, 20000, 21, Vec2(0, 0), Vec2(20, 20), false, 0);
+}
+
+TEST(Gravity, RandomRunInTheTableKeepsEnergyAndNeverOverlaps) {
+  billiard::Simulation sim;
+  sim.set_circular_table(12);
+  sim.set_gravity(Vec2(0, -1));
+  random_gravity_run(sim, 40, 20000, 22, Vec2(-12, -12), Vec2(12, 12), true, 12);
+}
+
+TEST(Gravity, RandomRunWithPolygonCornersAndFreeEnds) {
+  // A funnel: segment end points meet the discs under gravity (quartic disc-point times).
+  billiard::Simulation sim;
+  sim.add_box(Vec2(0, 0), Vec2(30, 30));
+  sim.add_segment(Vec2(3, 15), Vec2(13, 10));
+  sim.add_segment(Vec2(27, 15), Vec2(17, 10));
+  sim.set_gravity(Vec2(0, -1));
+  std::mt19937_64 rng(23);
+  const auto discs = engine_test::random_discs(rng, 30, 0.5, 1.0, Vec2(0, 0), Vec2(30, 30), [&](const Vec2& p, double a) {
+    return p.x() >= a && p.x() <= 30 - a && p.y() >= a && p.y() <= 30 - a &&
+           billiard::distance_to_segment(p, Vec2(3, 15), Vec2(13, 10)) >= a &&
+           billiard::distance_to_segment(p, Vec2(27, 15), Vec2(17, 10)) >= a;
+  });
+  engine_test::add_all(sim, discs);
+  const double e0 = sim.kinetic_energy() + sim.potential_energy();
+  sim.set_validate_every_event(true);
+  const auto result = sim.advance(20000);
+  EXPECT_EQ(sim.last_problem(), "");
+  EXPECT_EQ(result.collisions, 20000);
+  EXPECT_NEAR(sim.kinetic_energy() + sim.potential_energy(), e0, 1e-10 * std::abs(e0));
+}
