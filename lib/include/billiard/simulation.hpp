@@ -95,6 +95,15 @@ class Simulation {
   // Adds many discs of one radius and mass (positions and velocities N by 2); returns the index
   // of the first. All or nothing: one bad disc refuses the whole call.
   int add_discs(const Points& positions, const Points& velocities, double radius, double mass = 1.0);
+  // Adds n discs of one radius and mass at random places in the container (a table, boxes or
+  // polygons, or a periodic box must be set), clear of the walls and of every disc: random
+  // sequential addition, or, when that cannot place them all within its budget (dense systems,
+  // area fraction above ~0.4), random sites of a triangular lattice, which melts within a few
+  // collisions per disc. Velocities: Gaussian, with the total momentum of the new discs removed
+  // (n >= 2) and rescaled so that their kinetic energy is exactly n kT (2D: kT per disc).
+  // Returns the index of the first. All or nothing; refused (std::invalid_argument) if they
+  // cannot fit.
+  int add_random_discs(int n, double radius, double mass = 1.0, double kT = 1.0, std::uint64_t seed = 0);
 
   // ---- Running ----
   // Advances until max_events collisions have happened or max_duration time has passed,
@@ -111,6 +120,16 @@ class Simulation {
   double kinetic_energy() const;      // sum m v^2/2 + I w^2/2
   double potential_energy() const;    // - sum m g.r
   double memory_bytes() const;        // memory held by the engine
+
+  // ---- Properties (fixed once set; arrays of N, row i = disc i) ----
+  Eigen::VectorXd radii() const;
+  Eigen::VectorXd masses() const;
+  Eigen::VectorXd inertias() const;   // moments of inertia (mass x length^2)
+  Vec2 gravity() const;
+  Restitution restitution() const;
+  bool periodic() const;              // a periodic box (see period())
+  Vec2 period() const;                // width and height of the periodic box; (0, 0) if none
+  double table_radius() const;        // radius of the circular table; 0 if none
   int cell_count() const;             // cells of the grid (0 before the first advance)
 
   // ---- Event log and replay ----

@@ -29,7 +29,33 @@ from ._billiard import (  # noqa: F401  (re-exported)
 )
 from . import _billiard
 
+if hasattr(_billiard, "Simulation"):
+    from ._billiard import DISC_DISC, DISC_WALL, Simulation  # noqa: F401
+
+    def _replay_by_event(self):
+        """Yields the state (a dict like current_state) just after each logged event, in order.
+        The event log must have been enabled before the first advance()."""
+        replay = _billiard._Replay(self)
+        while not replay.finished:
+            yield replay.after_next_event(self)
+
+    def _replay_by_time(self, dt, until=None):
+        """Yields the state at times t0, t0 + dt, t0 + 2 dt, ... up to `until` (default: the current
+        time), t0 being the initial time: frames at a fixed rate for animations."""
+        if not dt > 0:
+            raise ValueError(f"replay_by_time: dt must be positive, got {dt}")
+        replay = _billiard._Replay(self)
+        start = self.initial_state["time"]
+        end = self.time if until is None else until
+        k = 0
+        while start + k * dt <= end:
+            yield replay.at(self, start + k * dt)
+            k += 1
+
+    Simulation.replay_by_event = _replay_by_event
+    Simulation.replay_by_time = _replay_by_time
+
 __all__ = [
-    "WALL", "Collision", "Rng", "correct_energy_drift", "course_implementation", "init_billiard",
+    "DISC_DISC", "DISC_WALL", "Simulation", "WALL", "Collision", "Rng", "correct_energy_drift", "course_implementation", "init_billiard",
     "init_velocities", "kinetic_energy", "movie", "propagate", "visualize_table",
 ]

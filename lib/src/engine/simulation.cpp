@@ -5,6 +5,7 @@
 #include "engine.hpp"
 
 #include <algorithm>
+#include <random>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -342,6 +343,114 @@ int Simulation::add_discs(const Points& positions, const Points& velocities, dou
   return first;
 }
 
+int Simulation::add_random_discs(int n, double radius, double mass, double kT, std::uint64_t seed) {
+  Engine& e = *engine_;
+  require_setup(e, "add_random_discs");
+  if (n < 0) refuse("add_random_discs: n must be >= 0, got " + std::to_string(n));
+  if (!(radius > 0) || !std::isfinite(radius)) refuse("add_random_discs: radius must be positive and finite, got " + number(radius));
+  if (!(mass > 0) || !std::isfinite(mass)) refuse("add_random_discs: mass must be positive and finite, got " + number(mass));
+  if (!(kT >= 0) || !std::isfinite(kT)) refuse("add_random_discs: kT must be >= 0 and finite, got " + number(kT));
+
+  // Where centres may lie: the container's bounding box.
+  Vec2 lo, hi;
+  if (e.periodic) {
+    lo = Vec2::Zero();
+    hi = e.period;
+  } else if (e.has_table) {
+    lo = Vec2::Constant(-e.table_radius);
+    hi = Vec2::Constant(e.table_radius);
+  } else if (!e.outlines.empty()) {
+    lo = Vec2::Constant(kNever);
+    hi = Vec2::Constant(-kNever);
+    for (const Points& outline : e.outlines) {
+      for (Eigen::Index k = 0; k < outline.rows(); ++k) {
+        lo = lo.cwiseMin(outline.row(k).transpose());
+        hi = hi.cwiseMax(outline.row(k).transpose());
+      }
+    }
+  } else {
+    refuse("add_random_discs: set a closed container first (a circular table, a box, a polygon or a periodic box)");
+  }
+
+  const int first = static_cast<int>(e.hot.size());
+  if (n == 0) return first;
+  const Engine saved = e;  // all or nothing
+  std::mt19937_64 rng(seed);
+  // A place is taken only if add_disc would accept it (inside, clear of walls and discs); the
+  // checks throw, so a rejected place costs an exception: the budgets below keep that bounded.
+  auto try_place = [&](const Vec2& position) {
+    Disc disc;
+    disc.position = position;
+    disc.radius = radius;
+    disc.mass = mass;
+    try {
+      add_disc(disc);
+      return true;
+    } catch (const std::invalid_argument&) {
+      return false;
+    }
+  };
+  try {
+    // 1. Random sequential addition: uniform and independent, as long as there is room.
+    std::uniform_real_distribution<double> ux(lo.x(), hi.x()), uy(lo.y(), hi.y());
+    long long budget = 60LL * n + 1000;
+    int placed = 0;
+    while (placed < n && budget-- > 0) {
+      Vec2 p(ux(rng), uy(rng));
+      if (e.periodic) p = p.cwiseMin(e.period * (1 - 1e-15));
+      if (try_place(p)) ++placed;
+    }
+    if (placed < n) {
+      // 2. Too dense for random addition: random sites of a triangular lattice with spacing
+      // just above a diameter (fitted to the period in a periodic box, so that it closes).
+      e = saved;
+      const double spacing = 2 * radius * (1 + 1e-9);
+      double dx = spacing, dy = spacing * std::sqrt(3.0) / 2;
+      Vec2 offset(std::uniform_real_distribution<double>(0, dx)(rng), std::uniform_real_distribution<double>(0, dy)(rng));
+      int columns = static_cast<int>(std::ceil((hi.x() - lo.x()) / dx)) + 1;
+      int rows = static_cast<int>(std::ceil((hi.y() - lo.y()) / dy)) + 1;
+      if (e.periodic) {
+        columns = static_cast<int>(std::floor(e.period.x() / spacing));
+        rows = 2 * static_cast<int>(std::floor(e.period.y() / (2 * dy)));  // even: rows alternate
+        if (columns < 1 || rows < 2) refuse("add_random_discs: the periodic box is too small for discs of radius " + number(radius));
+        dx = e.period.x() / columns;
+        dy = e.period.y() / rows;
+        offset = offset.cwiseMin(Vec2(dx, dy) * 0.999);
+      }
+      std::vector<Vec2> sites;
+      for (int row = 0; row < rows; ++row) {
+        for (int column = 0; column < columns; ++column) {
+          Vec2 p = lo + offset + Vec2(column * dx + (row % 2) * dx / 2, row * dy);
+          if (e.periodic) p = Vec2(std::fmod(p.x(), e.period.x()), std::fmod(p.y(), e.period.y()));
+          sites.push_back(p);
+        }
+      }
+      std::shuffle(sites.begin(), sites.end(), rng);
+      placed = 0;
+      for (const Vec2& p : sites) {
+        if (placed == n) break;
+        if (try_place(p)) ++placed;
+      }
+      if (placed < n) {
+        refuse("add_random_discs: only " + std::to_string(placed) + " of " + std::to_string(n) + " discs of radius " +
+               number(radius) + " fit in the container; use fewer or smaller discs");
+      }
+    }
+    // Velocities: Gaussian, no net momentum, kinetic energy exactly n kT.
+    std::normal_distribution<double> normal;
+    Eigen::Matrix<double, Eigen::Dynamic, 2> v(n, 2);
+    for (int k = 0; k < n; ++k) v.row(k) << normal(rng), normal(rng);
+    if (n >= 2) v.rowwise() -= v.colwise().mean();
+    const double energy = 0.5 * mass * v.squaredNorm();
+    if (energy > 0) v *= std::sqrt(n * kT / energy);
+    for (int k = 0; k < n; ++k) e.hot[static_cast<std::size_t>(first + k)].velocity = v.row(k).transpose();
+  } catch (...) {
+    e = saved;
+    throw;
+  }
+  return first;
+}
+
 AdvanceResult Simulation::advance(std::int64_t max_events, double max_duration) {
   if (max_events < 0) refuse("advance: max_events must be >= 0, got " + std::to_string(max_events));
   if (!(max_duration >= 0)) refuse("advance: max_duration must be >= 0, got " + number(max_duration));
@@ -388,6 +497,33 @@ double Simulation::memory_bytes() const {
                              e.grid.records.capacity() * sizeof(int) +
                              e.grid.wall_items.capacity() * sizeof(int) + e.log.capacity() * sizeof(EventRecord));
 }
+
+Eigen::VectorXd Simulation::radii() const {
+  const Engine& e = *engine_;
+  Eigen::VectorXd out(static_cast<Eigen::Index>(e.hot.size()));
+  for (std::size_t i = 0; i < e.hot.size(); ++i) out[static_cast<Eigen::Index>(i)] = e.hot[i].radius;
+  return out;
+}
+
+Eigen::VectorXd Simulation::masses() const {
+  const Engine& e = *engine_;
+  Eigen::VectorXd out(static_cast<Eigen::Index>(e.cold.size()));
+  for (std::size_t i = 0; i < e.cold.size(); ++i) out[static_cast<Eigen::Index>(i)] = e.cold[i].mass;
+  return out;
+}
+
+Eigen::VectorXd Simulation::inertias() const {
+  const Engine& e = *engine_;
+  Eigen::VectorXd out(static_cast<Eigen::Index>(e.cold.size()));
+  for (std::size_t i = 0; i < e.cold.size(); ++i) out[static_cast<Eigen::Index>(i)] = e.cold[i].inertia;
+  return out;
+}
+
+Vec2 Simulation::gravity() const { return engine_->gravity; }
+Restitution Simulation::restitution() const { return engine_->restitution; }
+bool Simulation::periodic() const { return engine_->periodic; }
+Vec2 Simulation::period() const { return engine_->periodic ? engine_->period : Vec2::Zero(); }
+double Simulation::table_radius() const { return engine_->has_table ? engine_->table_radius : 0.0; }
 
 int Simulation::cell_count() const { return engine_->prepared ? engine_->grid.nx * engine_->grid.ny : 0; }
 

@@ -1,0 +1,55 @@
+// Replaying a recorded run: the state just after each logged event, or at increasing times
+// (for animations at a fixed frame rate), rebuilt from the initial state and the event log.
+//
+//   sim.enable_event_log(true);
+//   sim.advance(1000);
+//   billiard::Replay replay(sim);
+//   while (!replay.finished()) draw(replay.after_next_event());
+//
+// Between events every disc flies freely (r + v t + g t^2 / 2), so each disc's last logged
+// position and velocity fix it. Each step costs O(discs touched) to apply the events plus O(N)
+// to produce the state: a whole replay is linear in its length, unlike calling
+// Simulation::replay_after_event(k) for every k. The log must have been enabled from the first
+// advance() on, and the simulation must outlive the Replay (it reads the log as it goes, so a
+// run advanced further while replaying is followed too).
+#pragma once
+
+#include "billiard/disc.hpp"
+#include "billiard/simulation.hpp"
+
+#include <cstddef>
+
+namespace billiard {
+
+class Replay {
+ public:
+  explicit Replay(const Simulation& simulation);
+
+  // Logged events applied so far (the next after_next_event() shows event number applied()).
+  std::size_t applied() const { return next_; }
+  // True when every logged event has been applied.
+  bool finished() const;
+
+  // Applies the next logged event and returns the state just after it, at its time. Throws
+  // std::logic_error when finished().
+  State after_next_event();
+
+  // The state at time t: applies every logged event up to t. Times must not decrease from one
+  // call to the next (std::invalid_argument otherwise, naming t); t may lie beyond the last
+  // logged event (free flight from there).
+  State at(double t);
+
+ private:
+  void apply(std::size_t k);
+  State state_at(double t) const;
+
+  const Simulation* simulation_;
+  State last_;                  // each disc as last logged (position, velocity, spin) ...
+  Eigen::VectorXd since_;       // ... and the time of that record
+  std::size_t next_ = 0;
+  double time_;                 // time of the last state produced
+  Vec2 gravity_;
+  Vec2 period_;                 // (0, 0) unless periodic
+};
+
+}  // namespace billiard

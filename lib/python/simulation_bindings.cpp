@@ -1,0 +1,245 @@
+// Python bindings of the event-driven engine (billiard/simulation.hpp, billiard/replay.hpp):
+// class billiard.Simulation. States and the event log come out as dictionaries of numpy arrays;
+// the replays are generators (billiard/__init__.py wraps the Replay object below). No physics
+// here: only conversions.
+#include "bindings.hpp"
+
+#include "billiard/replay.hpp"
+#include "billiard/simulation.hpp"
+
+#include <pybind11/eigen.h>
+#include <pybind11/stl.h>
+
+#include <optional>
+#include <string>
+
+namespace py = pybind11;
+
+namespace billiard::python {
+namespace {
+
+Vec2 to_vec2(const py::object& value, const char* name) {
+  const Rows2 m = from_numpy(py::array_t<double>::ensure(value).reshape({1, 2}), name);
+  return Vec2(m(0, 0), m(0, 1));
+}
+
+Points to_points(const py::object& value, const char* name) {
+  const Rows2 m = from_numpy(py::array::ensure(value), name);
+  return Points(m);
+}
+
+py::array_t<double> points(const Points& p) { return to_numpy(Rows2(p)); }
+
+py::array_t<double> vector(const Eigen::VectorXd& v) {
+  py::array_t<double> out(static_cast<py::ssize_t>(v.size()));
+  auto view = out.mutable_unchecked<1>();
+  for (Eigen::Index i = 0; i < v.size(); ++i) view(i) = v[i];
+  return out;
+}
+
+py::dict state_dict(const Simulation& sim, const State& state) {
+  py::dict d;
+  d["time"] = state.time;
+  d["position"] = points(state.positions);
+  d["velocity"] = points(state.velocities);
+  d["spin"] = vector(state.spins);
+  d["mass"] = vector(sim.masses());
+  d["radius"] = vector(sim.radii());
+  d["inertia"] = vector(sim.inertias());
+  return d;
+}
+
+py::dict event_log_dict(const std::vector<EventRecord>& log) {
+  const auto k = static_cast<py::ssize_t>(log.size());
+  py::array_t<double> time(k), spin(k), other_spin(k);
+  py::array_t<int> kind(k), disc(k), other(k), wall(k);
+  Points position(k, 2), velocity(k, 2), other_position(k, 2), other_velocity(k, 2);
+  for (py::ssize_t n = 0; n < k; ++n) {
+    const EventRecord& e = log[static_cast<std::size_t>(n)];
+    time.mutable_at(n) = e.time;
+    kind.mutable_at(n) = static_cast<int>(e.kind);
+    disc.mutable_at(n) = e.disc;
+    other.mutable_at(n) = e.other;
+    wall.mutable_at(n) = e.wall;
+    spin.mutable_at(n) = e.spin;
+    other_spin.mutable_at(n) = e.other_spin;
+    position.row(n) = e.position.transpose();
+    velocity.row(n) = e.velocity.transpose();
+    other_position.row(n) = e.other_position.transpose();
+    other_velocity.row(n) = e.other_velocity.transpose();
+  }
+  py::dict d;
+  d["time"] = time;
+  d["kind"] = kind;
+  d["disc"] = disc;
+  d["other"] = other;
+  d["wall"] = wall;
+  d["position"] = points(position);
+  d["velocity"] = points(velocity);
+  d["spin"] = spin;
+  d["other_position"] = points(other_position);
+  d["other_velocity"] = points(other_velocity);
+  d["other_spin"] = other_spin;
+  return d;
+}
+
+const char* wall_kind(WallKind kind) {
+  switch (kind) {
+    case WallKind::Segment: return "segment";
+    case WallKind::Point: return "point";
+    case WallKind::Circle: return "circle";
+  }
+  return "unknown";
+}
+
+}  // namespace
+
+void bind_simulation(py::module_& m) {
+  m.attr("DISC_DISC") = static_cast<int>(EventKind::DiscDisc);
+  m.attr("DISC_WALL") = static_cast<int>(EventKind::DiscWall);
+
+  py::class_<Simulation> sim(m, "Simulation", R"(Event-driven simulation of hard discs (the library in lib/).
+
+Set up a container (set_circular_table, set_periodic_box, add_box, add_segment,
+add_polygon), optionally gravity and restitution, add discs, then advance(). Setup is fixed
+after the first advance(); restitution and the event log can still change. Units are yours.
+States are dicts of numpy arrays: time, position (n, 2), velocity (n, 2), spin (n,),
+mass (n,), radius (n,), inertia (n,). Bad input raises ValueError naming the disc and value.)");
+
+  sim.def(py::init<>())
+      .def("set_circular_table", &Simulation::set_circular_table, py::arg("radius"),
+           "Circular table of this radius centred at the origin; discs live inside it.")
+      .def("set_periodic_box", &Simulation::set_periodic_box, py::arg("width"), py::arg("height"),
+           "Periodic box [0, width) x [0, height): the bulk system, no walls.")
+      .def(
+          "add_box", [](Simulation& s, const py::object& lower, const py::object& upper) {
+            s.add_box(to_vec2(lower, "lower"), to_vec2(upper, "upper"));
+          },
+          py::arg("lower"), py::arg("upper"), "The four walls of the box [lower, upper] (points (x, y)).")
+      .def(
+          "add_segment", [](Simulation& s, const py::object& a, const py::object& b) {
+            return s.add_segment(to_vec2(a, "a"), to_vec2(b, "b"));
+          },
+          py::arg("a"), py::arg("b"), "A straight wall from a to b (both faces, and its end points); returns its wall index.")
+      .def(
+          "add_polygon", [](Simulation& s, const py::object& vertices) { s.add_polygon(to_points(vertices, "vertices")); },
+          py::arg("vertices"), "A closed polygon, vertices (k, 2) in order: one wall per side.")
+      .def(
+          "set_gravity", [](Simulation& s, const py::object& g) { s.set_gravity(to_vec2(g, "g")); }, py::arg("g"),
+          "Uniform gravity (gx, gy); default (0, 0).")
+      .def("set_restitution", &Simulation::set_restitution, py::arg("normal"), py::arg("tangential") = -1.0,
+           "Coefficients of restitution: normal in [0, 1] (1 elastic), tangential in [-1, 1] (-1 smooth, +1 rough).")
+      .def("set_cell_size", &Simulation::set_cell_size, py::arg("size"),
+           "Side of the cells (>= the largest diameter); 0 chooses it automatically (default).")
+      .def(
+          "add_disc",
+          [](Simulation& s, const py::object& position, const py::object& velocity, double radius, double mass,
+             std::optional<double> inertia, double spin) {
+            Disc d;
+            d.position = to_vec2(position, "position");
+            d.velocity = to_vec2(velocity, "velocity");
+            d.radius = radius;
+            d.mass = mass;
+            d.inertia = inertia;
+            d.spin = spin;
+            return s.add_disc(d);
+          },
+          py::arg("position"), py::arg("velocity") = py::make_tuple(0.0, 0.0), py::arg("radius") = 1.0,
+          py::arg("mass") = 1.0, py::arg("inertia") = py::none(), py::arg("spin") = 0.0,
+          "Adds one disc; returns its index. inertia None means a uniform disc (mass radius^2 / 2).")
+      .def(
+          "add_discs",
+          [](Simulation& s, const py::object& positions, const py::object& velocities, double radius, double mass) {
+            return s.add_discs(to_points(positions, "positions"), to_points(velocities, "velocities"), radius, mass);
+          },
+          py::arg("positions"), py::arg("velocities"), py::arg("radius"), py::arg("mass") = 1.0,
+          "Adds discs of one radius and mass (positions, velocities: (n, 2)); all or nothing. Returns the first index.")
+      .def("add_random_discs", &Simulation::add_random_discs, py::arg("n"), py::arg("radius"), py::arg("mass") = 1.0,
+           py::arg("kT") = 1.0, py::arg("seed") = 0,
+           "Adds n discs at random places in the container, with Gaussian velocities of temperature kT (no net\n"
+           "momentum, kinetic energy exactly n kT). Dense requests start from random lattice sites. Returns the first index.")
+      .def(
+          "advance",
+          [](Simulation& s, std::optional<std::int64_t> events, std::optional<double> time) {
+            if (!events && !time) throw std::invalid_argument("advance: give events=..., time=... or both");
+            const AdvanceResult r = s.advance(events.value_or(kAllEvents), time.value_or(kNever));
+            py::dict d;
+            d["collisions"] = r.collisions;
+            d["disc_collisions"] = r.disc_collisions;
+            d["wall_collisions"] = r.wall_collisions;
+            d["cell_crossings"] = r.cell_crossings;
+            d["stale_events"] = r.stale_events;
+            d["elapsed"] = r.elapsed;
+            d["stuck"] = r.stuck;
+            return d;
+          },
+          py::arg("events") = py::none(), py::arg("time") = py::none(),
+          "Advances by `events` collisions or `time`, whichever comes first; returns counts (collisions,\n"
+          "disc_collisions, wall_collisions, cell_crossings, stale_events), elapsed and stuck.")
+      .def_property_readonly("time", &Simulation::time, "The current time.")
+      .def("__len__", &Simulation::size)
+      .def_property_readonly(
+          "current_state", [](const Simulation& s) { return state_dict(s, s.current_state()); },
+          "The discs now (all advanced to `time`), as a dict of numpy arrays.")
+      .def_property_readonly(
+          "initial_state", [](const Simulation& s) { return state_dict(s, s.initial_state()); },
+          "The discs at the first advance() (or now, before it).")
+      .def("enable_event_log", &Simulation::enable_event_log, py::arg("on") = true,
+           "Record every collision (enable before the first advance() to replay).")
+      .def("clear_event_log", &Simulation::clear_event_log)
+      .def_property_readonly(
+          "event_log", [](const Simulation& s) { return event_log_dict(s.event_log()); },
+          "The recorded collisions as a dict of arrays: time, kind (DISC_DISC or DISC_WALL), disc, other (-1 for a\n"
+          "wall), wall, and position, velocity, spin of disc and other just after the event.")
+      .def_property_readonly(
+          "totals",
+          [](const Simulation& s) {
+            const Totals t = s.totals();
+            py::dict d;
+            d["wall_momentum"] = t.wall_momentum;
+            d["virial"] = t.virial;
+            d["disc_collisions"] = t.disc_collisions;
+            d["wall_collisions"] = t.wall_collisions;
+            d["cell_crossings"] = t.cell_crossings;
+            return d;
+          },
+          "Running totals since time 0: wall_momentum (sum of |impulse| given to walls), virial (sum over disc\n"
+          "collisions of r_ij . dp_i, for P A = N kT + virial / (2 t)), and counts.")
+      .def("kinetic_energy", &Simulation::kinetic_energy, "Sum of m v^2 / 2 + I w^2 / 2.")
+      .def("potential_energy", &Simulation::potential_energy, "-sum m g.r.")
+      .def("memory_bytes", &Simulation::memory_bytes, "Memory held by the engine, in bytes.")
+      .def("validate", &Simulation::validate, py::arg("tolerance") = 1e-9,
+           "'' if no two discs overlap beyond tolerance x radius and all are inside; else the first problem.")
+      .def_property_readonly(
+          "walls",
+          [](const Simulation& s) {
+            py::list out;
+            for (const Wall& w : s.walls()) {
+              py::dict d;
+              d["kind"] = wall_kind(w.kind);
+              d["a"] = py::make_tuple(w.a.x(), w.a.y());
+              d["b"] = py::make_tuple(w.b.x(), w.b.y());
+              d["radius"] = w.radius;
+              out.append(d);
+            }
+            return out;
+          },
+          "The walls as dicts: kind ('segment', 'point', 'circle'), a, b, radius.")
+      .def_property_readonly("gravity", [](const Simulation& s) { return py::make_tuple(s.gravity().x(), s.gravity().y()); })
+      .def_property_readonly("period", [](const Simulation& s) { return py::make_tuple(s.period().x(), s.period().y()); },
+                             "(width, height) of the periodic box; (0, 0) if none.")
+      .def_property_readonly("table_radius", &Simulation::table_radius, "Radius of the circular table; 0 if none.");
+
+  // The incremental replay behind Simulation.replay_by_event / replay_by_time (__init__.py).
+  py::class_<Replay>(m, "_Replay")
+      .def(py::init<const Simulation&>(), py::arg("simulation"), py::keep_alive<1, 2>())
+      .def_property_readonly("finished", &Replay::finished)
+      .def(
+          "after_next_event",
+          [](Replay& r, const Simulation& s) { return state_dict(s, r.after_next_event()); }, py::arg("simulation"))
+      .def(
+          "at", [](Replay& r, const Simulation& s, double t) { return state_dict(s, r.at(t)); }, py::arg("simulation"),
+          py::arg("t"));
+}
+
+}  // namespace billiard::python

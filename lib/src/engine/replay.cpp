@@ -1,0 +1,78 @@
+// Replay of a recorded run (billiard/replay.hpp). Uses only the public Simulation API.
+#include "billiard/replay.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace billiard {
+
+Replay::Replay(const Simulation& simulation)
+    : simulation_(&simulation),
+      last_(simulation.initial_state()),
+      since_(Eigen::VectorXd::Constant(last_.positions.rows(), last_.time)),
+      time_(last_.time),
+      gravity_(simulation.gravity()),
+      period_(simulation.period()) {}
+
+bool Replay::finished() const { return next_ >= simulation_->event_log().size(); }
+
+void Replay::apply(std::size_t k) {
+  const EventRecord& e = simulation_->event_log()[k];
+  last_.positions.row(e.disc) = e.position.transpose();
+  last_.velocities.row(e.disc) = e.velocity.transpose();
+  last_.spins[e.disc] = e.spin;
+  since_[e.disc] = e.time;
+  if (e.other >= 0) {
+    last_.positions.row(e.other) = e.other_position.transpose();
+    last_.velocities.row(e.other) = e.other_velocity.transpose();
+    last_.spins[e.other] = e.other_spin;
+    since_[e.other] = e.time;
+  }
+}
+
+// Every disc moved from its last record to time t (free flight under gravity; wrapped into
+// the periodic box if there is one).
+State Replay::state_at(double t) const {
+  State state = last_;
+  state.time = t;
+  for (Eigen::Index i = 0; i < state.positions.rows(); ++i) {
+    const double dt = t - since_[i];
+    Vec2 r = last_.positions.row(i).transpose();
+    const Vec2 v = last_.velocities.row(i).transpose();
+    r += dt * (v + 0.5 * dt * gravity_);
+    if (period_.x() > 0) {
+      r.x() -= period_.x() * std::floor(r.x() / period_.x());
+      r.y() -= period_.y() * std::floor(r.y() / period_.y());
+    }
+    state.positions.row(i) = r.transpose();
+    state.velocities.row(i) = (v + dt * gravity_).transpose();
+  }
+  return state;
+}
+
+State Replay::after_next_event() {
+  if (finished()) throw std::logic_error("Replay::after_next_event: every logged event has been replayed");
+  const double t = simulation_->event_log()[next_].time;
+  apply(next_++);
+  // Events at the same instant (a corner hit, three discs touching) come one by one: each shows
+  // the state after it.
+  time_ = t;
+  return state_at(t);
+}
+
+State Replay::at(double t) {
+  if (!std::isfinite(t) || t < time_) {
+    std::ostringstream message;
+    message.precision(17);
+    message << "Replay::at: t must be finite and not before the previous time " << time_ << ", got " << t;
+    throw std::invalid_argument(message.str());
+  }
+  const auto& log = simulation_->event_log();
+  while (next_ < log.size() && log[next_].time <= t) apply(next_++);
+  time_ = t;
+  return state_at(t);
+}
+
+}  // namespace billiard

@@ -1,0 +1,101 @@
+// Replay (billiard/replay.hpp): walking a recorded run forward event by event and at fixed
+// time steps gives the same states as the live run and as Simulation::replay_after_event /
+// replay_at. Tolerance 1e-12: the states are extrapolated from different records, so they
+// differ by rounding only.
+#include "billiard/replay.hpp"
+
+#include "helpers.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <stdexcept>
+
+namespace {
+
+using billiard::Vec2;
+
+double largest_difference(const billiard::State& a, const billiard::State& b) {
+  return std::max((a.positions - b.positions).cwiseAbs().maxCoeff(), (a.velocities - b.velocities).cwiseAbs().maxCoeff());
+}
+
+billiard::Simulation logged_run(bool periodic) {
+  std::mt19937_64 rng(periodic ? 7 : 8);
+  billiard::Simulation sim;
+  if (periodic) {
+    sim.set_periodic_box(20, 20);
+  } else {
+    sim.add_box(Vec2(0, 0), Vec2(20, 20));
+    sim.set_gravity(Vec2(0.1, -0.3));
+  }
+  const auto discs = engine_test::random_discs(rng, 25, 0.5, 1.0, Vec2(0, 0), Vec2(20, 20), [](const Vec2& p, double a) {
+    return p.x() >= a && p.x() <= 20 - a && p.y() >= a && p.y() <= 20 - a;
+  });
+  engine_test::add_all(sim, discs);
+  sim.enable_event_log(true);
+  sim.advance(300);
+  return sim;
+}
+
+TEST(Replay, EventByEventMatchesTheLogAndEndsAtTheLiveState) {
+  for (const bool periodic : {false, true}) {
+    const billiard::Simulation sim = logged_run(periodic);
+    billiard::Replay replay(sim);
+    std::size_t k = 0;
+    while (!replay.finished()) {
+      const billiard::State s = replay.after_next_event();
+      const billiard::State expected = sim.replay_after_event(k);
+      ASSERT_EQ(s.time, expected.time) << "event " << k;
+      ASSERT_LT(largest_difference(s, expected), 1e-12) << "event " << k << (periodic ? " (periodic)" : "");
+      ++k;
+    }
+    EXPECT_EQ(k, sim.event_log().size());
+    EXPECT_EQ(replay.applied(), k);
+    EXPECT_LT(largest_difference(replay.at(sim.time()), sim.current_state()), 1e-12);
+    EXPECT_THROW(replay.after_next_event(), std::logic_error);
+  }
+}
+
+TEST(Replay, FixedTimeStepsMatchReplayAt) {
+  const billiard::Simulation sim = logged_run(false);
+  billiard::Replay replay(sim);
+  int frames = 0;
+  for (double t = 0; t <= sim.time(); t += 0.05, ++frames) {
+    ASSERT_LT(largest_difference(replay.at(t), sim.replay_at(t)), 1e-12) << "t = " << t;
+  }
+  EXPECT_GT(frames, 10);
+  // Time may not go back.
+  EXPECT_THROW(replay.at(0.0), std::invalid_argument);
+}
+
+TEST(Replay, ATwoDiscHeadOnRunByHand) {
+  // Discs of radius 1 at x = 2 and 8 (y = 5) in a 10 x 10 box, approaching at speed 1 each:
+  // contact at t = 2 (gap 6 - 2 = 4 closed at relative speed 2), then they fly back and hit
+  // the walls at t = 2 + 4 = 6 (x = 1 and 9).
+  billiard::Simulation sim;
+  sim.add_box(Vec2(0, 0), Vec2(10, 10));
+  billiard::Disc a;
+  a.position = Vec2(2, 5);
+  a.velocity = Vec2(1, 0);
+  billiard::Disc b = a;
+  b.position = Vec2(8, 5);
+  b.velocity = Vec2(-1, 0);
+  sim.add_disc(a);
+  sim.add_disc(b);
+  sim.enable_event_log(true);
+  sim.advance(3);
+  billiard::Replay replay(sim);
+  const billiard::State first = replay.after_next_event();
+  EXPECT_NEAR(first.time, 2.0, 1e-12);
+  EXPECT_NEAR(first.positions(0, 0), 4.0, 1e-12);
+  EXPECT_NEAR(first.velocities(0, 0), -1.0, 1e-12);
+  const billiard::State mid = replay.at(4.0);  // flying apart: x = 2 and 8 again
+  EXPECT_NEAR(mid.positions(0, 0), 2.0, 1e-12);
+  EXPECT_NEAR(mid.positions(1, 0), 8.0, 1e-12);
+  const billiard::State walls = replay.at(6.0);  // both walls hit at t = 6 (logged)
+  EXPECT_EQ(replay.applied(), 3u);
+  EXPECT_NEAR(walls.velocities(0, 0), 1.0, 1e-12);
+  EXPECT_NEAR(walls.velocities(1, 0), -1.0, 1e-12);
+}
+
+}  // namespace
