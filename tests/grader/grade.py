@@ -109,7 +109,8 @@ class Build:
         command = [
             "cmake", "-S", str(REPO), "-B", str(self.folder), "-G", "Ninja", "-DCMAKE_BUILD_TYPE=Release",
             "-DBILLIARD_COURSE=" + ("solutions" if self.dependencies == "reference" else "tasks"),
-            "-DBILLIARD_CHECK_STUBS=OFF", "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON", f"-DBILLIARD_SUBMISSION={self.submission}",
+            "-DBILLIARD_CHECK_STUBS=OFF", "-DBILLIARD_PYTHON=OFF", "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON",
+            f"-DBILLIARD_SUBMISSION={self.submission}",
             f"-DBILLIARD_GRADE_DEPENDENCIES={self.dependencies}", "-DBILLIARD_STUBBED_TASKS=" + ";".join(stubbed),
         ]
         ok, output = run_quietly(command, timeout=600)
