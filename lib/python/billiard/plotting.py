@@ -175,7 +175,10 @@ def draw_table(ax, positions, radii=None, table_radius=None, box=None, walls=Non
     for centre, radius, color in zip(positions, radii, _disc_colors(colors, n)):
         disc = Circle(tuple(centre), radius, facecolor=color, edgecolor="black", linewidth=0.5, alpha=0.85,
                       zorder=2)
-        ax.add_patch(disc)
+        # add_artist, not add_patch: add_patch recomputes the data limits for every disc (seconds
+        # for a thousand discs); the limits are set once below.
+        disc.set_clip_path(ax.patch)
+        ax.add_artist(disc)
         discs.append(disc)
     if velocities is not None and n:
         ax.quiver(positions[:, 0], positions[:, 1], velocities[:, 0] * arrow_scale, velocities[:, 1] * arrow_scale,
