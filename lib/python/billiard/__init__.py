@@ -47,10 +47,11 @@ if hasattr(_billiard, "Simulation"):
         replay = _billiard._Replay(self)
         start = self.initial_state["time"]
         end = self.time if until is None else until
-        k = 0
-        while start + k * dt <= end:
+        # Frames k = 0 .. floor((end - start) / dt), counted with a relative tolerance of 1e-12 so
+        # that an end which is a whole number of steps is not lost to rounding.
+        frames = int((end - start) / dt * (1 + 1e-12)) + 1 if end >= start else 0
+        for k in range(frames):
             yield replay.at(self, start + k * dt)
-            k += 1
 
     Simulation.replay_by_event = _replay_by_event
     Simulation.replay_by_time = _replay_by_time
