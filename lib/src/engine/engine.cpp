@@ -105,7 +105,9 @@ void Simulation::Engine::prepare() {
   for (int i = 0; i < n; ++i) {
     keys[i] = std::min(scheduled[i].contact_time, scheduled[i].crossing_time);
   }
-  queue.assign(keys);
+  std::vector<int> tags(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) tags[i] = event_cell(i);
+  queue.assign(keys, tags);
   prepared = true;
   setup_hash.cells.clear();  // no more discs can be added: free the setup hash
 }
@@ -267,33 +269,96 @@ void Simulation::Engine::set_crossing(int i) {
   s.crossing = 2 * exit.axis + (exit.direction > 0 ? 0 : 1);
 }
 
+// The cell around which disc i's next event will read and write: the cell it enters for a
+// crossing, its own cell for a contact. Kept as the queue entry's tag, so that the loop can
+// prefetch the cells of the likely next event while it handles the current one.
+int Simulation::Engine::event_cell(int i) const {
+  const HotDisc& d = hot[i];
+  const Scheduled& s = scheduled[i];
+  if (s.crossing_time > s.contact_time) return d.cell;
+  int cx = d.cx, cy = d.cy;
+  switch (s.crossing) {
+    case 0: cx = std::min(cx + 1, grid.nx - 1); break;
+    case 1: cx = std::max(cx - 1, 0); break;
+    case 2: cy = std::min(cy + 1, grid.ny - 1); break;
+    default: cy = std::max(cy - 1, 0); break;
+  }
+  return cx + grid.nx * cy;
+}
+
+void Simulation::Engine::schedule(int i) {
+  const Scheduled& s = scheduled[i];
+  queue.update(i, std::min(s.contact_time, s.crossing_time), event_cell(i));
+}
+
+// Prefetches the records of the 3 x 3 block of cells around cell c (clipped to the grid): three
+// rows of three consecutive records. A hint only: no effect on results.
+void Simulation::Engine::prefetch_block(int c) const {
+  const int cells = grid.nx * grid.ny;
+  const std::size_t row_bytes = 3 * sizeof(int) * static_cast<std::size_t>(grid.stride);
+  const int* base = grid.records.data();
+  for (int dy = -1; dy <= 1; ++dy) {
+    const int first = std::clamp(c + dy * grid.nx - 1, 0, cells - 1);
+    const char* from = reinterpret_cast<const char*>(base + static_cast<std::size_t>(first) * grid.stride);
+    const char* end = std::min(from + row_bytes, reinterpret_cast<const char*>(base + grid.records.size()));
+    int lines = 0;
+    for (const char* p = from; p < end && lines < 6; p += 64, ++lines) __builtin_prefetch(p);
+  }
+}
+
+// Discs of the 3 x 3 block around disc i's cell, written to `list`, when that cell is an
+// interior cell (almost all: no wrapping or bounds checks needed); -1 otherwise. Their states
+// are prefetched, so that the cache misses (the bottleneck from N ~ 10^5 on, when the discs no
+// longer fit in the caches) overlap instead of waiting for one another.
+int Simulation::Engine::gather(int i, int* list) const {
+  const HotDisc& d = hot[i];
+  if (!(d.cx > 0 && d.cx < grid.nx - 1 && d.cy > 0 && d.cy < grid.ny - 1)) return -1;
+  int m = 0;
+  for (int dy = -1; dy <= 1; ++dy) {
+    const int row = d.cell + dy * grid.nx;
+    for (int c = row - 1; c <= row + 1; ++c) {
+      const int* items = cell_discs(grid, c);
+      for (int k = 0, count = cell_disc_count(grid, c); k < count; ++k) list[m++] = items[k];
+    }
+  }
+  for (int k = 0; k < m; ++k) __builtin_prefetch(&hot[list[k]]);
+  return m;
+}
+
+int* Simulation::Engine::scratch(int which) {
+  const std::size_t most = 9 * static_cast<std::size_t>(grid.capacity);
+  if (neighbours.size() < 2 * most) neighbours.resize(2 * most);  // the slots may have grown
+  return neighbours.data() + which * most;
+}
+
 void Simulation::Engine::predict_full(int i) {
+  prefetch_block(hot[i].cell);
+  int* list = scratch(0);
+  predict_gathered(i, list, gather(i, list));
+}
+
+// Both discs of a collision: gathering j's neighbours before testing i's lets the cache misses
+// of both overlap.
+void Simulation::Engine::predict_pair(int i, int j) {
+  int* list_j = scratch(1);  // (both calls ask for the same size: the second never reallocates)
+  int* list_i = scratch(0);
+  const int m_i = gather(i, list_i);
+  const int m_j = gather(j, list_j);
+  predict_gathered(i, list_i, m_i);
+  predict_gathered(j, list_j, m_j);
+}
+
+// Predicts disc i's next contact and crossing from scratch and reschedules it; `list` holds
+// the m discs gathered around it, or m < 0 for a border cell (scanned cell by cell).
+void Simulation::Engine::predict_gathered(int i, const int* list, int m) {
   HotDisc& d = hot[i];
   advance_disc(d, now);
   Scheduled& s = scheduled[i];
   s.contact_time = kNever;
   s.partner = kNoPartner;
-  const int cx = d.cx;
-  const int cy = d.cy;
   const Vec2 r = d.position;
   const Vec2 v = d.velocity;
-  if (cx > 0 && cx < grid.nx - 1 && cy > 0 && cy < grid.ny - 1) {
-    // Interior cell (almost all): the 3 x 3 block without wrapping or bounds checks. Gather the
-    // neighbours' indices first and prefetch their states, then test: the cache misses (the
-    // bottleneck from N ~ 10^5 on, when the discs no longer fit in the caches) then overlap
-    // instead of waiting for one another.
-    const std::size_t most = 9 * static_cast<std::size_t>(grid.capacity);
-    if (neighbours.size() < most) neighbours.resize(most);  // the slots may have grown
-    int* list = neighbours.data();
-    int m = 0;
-    for (int dy = -1; dy <= 1; ++dy) {
-      const int row = d.cell + dy * grid.nx;
-      for (int c = row - 1; c <= row + 1; ++c) {
-        const int* items = cell_discs(grid, c);
-        for (int k = 0, count = cell_disc_count(grid, c); k < count; ++k) list[m++] = items[k];
-      }
-    }
-    for (int k = 0; k < m; ++k) __builtin_prefetch(&hot[list[k]]);
+  if (m >= 0) {
     if (has_gravity) {
       scan_list<true>(hot, gravity, i, list, m, r, v, d.radius, now, s);
     } else {
@@ -301,12 +366,12 @@ void Simulation::Engine::predict_full(int i) {
     }
   } else {
     for (int dy = -1; dy <= 1; ++dy) {
-      for (int dx = -1; dx <= 1; ++dx) scan_cell(i, cx + dx, cy + dy, r, v, s);
+      for (int dx = -1; dx <= 1; ++dx) scan_cell(i, d.cx + dx, d.cy + dy, r, v, s);
     }
   }
   scan_walls(d.cell, r, v, d.radius, s);
   set_crossing(i);
-  if (prepared) queue.update(i, std::min(s.contact_time, s.crossing_time));
+  if (prepared) schedule(i);
 }
 
 void Simulation::Engine::cross(int i) {
@@ -346,7 +411,7 @@ void Simulation::Engine::cross(int i) {
   }
   scan_walls(d.cell, r, v, d.radius, s);
   set_crossing(i);
-  queue.update(i, std::min(s.contact_time, s.crossing_time));
+  schedule(i);
 }
 
 void Simulation::Engine::collide_pair(int i, int j) {
@@ -437,6 +502,15 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
   double last_time = now;
   while (result.collisions < max_events && !hot.empty()) {
     const EventQueue::Entry top = queue.top();
+    {
+      // The event after this one is most likely the root's smallest child (unless this event
+      // reschedules a disc earlier): start loading its disc and cells now, so that those cache
+      // misses overlap with the work on this event.
+      const EventQueue::Entry& next = queue.runner_up();
+      __builtin_prefetch(&hot[next.disc]);
+      __builtin_prefetch(&scheduled[next.disc]);
+      prefetch_block(next.tag);
+    }
     if (top.time > end || top.time == kNever) {
       if (end < kNever) now = end;
       break;
@@ -473,10 +547,10 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
         predict_full(i);
         continue;
       }
+      prefetch_block(hot[j].cell);  // for predict_pair, while the collision is computed
       collide_pair(i, j);
       if (logging) record(EventKind::DiscDisc, i, j, kNoWall);
-      predict_full(i);
-      predict_full(j);
+      predict_pair(i, j);
       ++result.disc_collisions;
     } else {
       const int w = s.wall;

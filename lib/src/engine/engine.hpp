@@ -87,7 +87,7 @@ struct Simulation::Engine {
   double now = 0.0;
   Grid grid;
   EventQueue queue;
-  std::vector<int> neighbours;  // scratch: the discs of a 3 x 3 block of cells
+  std::vector<int> neighbours;  // scratch: the discs of two 3 x 3 blocks of cells
   Totals totals;
   State initial;
   bool logging = false;
@@ -106,6 +106,10 @@ struct Simulation::Engine {
   AdvanceResult advance(std::int64_t max_events, double max_duration);
   void advance_disc(HotDisc& d, double t) const;
   void predict_full(int i);
+  void predict_pair(int i, int j);
+  void predict_gathered(int i, const int* list, int m);
+  int gather(int i, int* list) const;
+  int* scratch(int which);
   void cross(int i);
   void collide_pair(int i, int j);
   void collide_wall(int i, int wall);
@@ -113,6 +117,9 @@ struct Simulation::Engine {
   void scan_cell(int i, int cx, int cy, const Vec2& r, const Vec2& v, Scheduled& s) const;
   void scan_walls(int cell, const Vec2& r, const Vec2& v, double radius, Scheduled& s) const;
   void set_crossing(int i);
+  int event_cell(int i) const;
+  void schedule(int i);
+  void prefetch_block(int c) const;
   void link(int i, int cell);
   void unlink(int i);
   State state_now() const;

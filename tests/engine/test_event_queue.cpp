@@ -1,0 +1,118 @@
+// The event queue (billiard/event_queue.hpp), a calendar of time buckets in front of a small
+// heap, against a brute-force minimum: random keys, random changes (earlier, later, far in the
+// future, infinite), the pattern of the event loop (pop the top, move it ahead) and a change of
+// time scale that forces the calendar to re-plan its bucket width.
+#include "billiard/event_queue.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <limits>
+#include <random>
+#include <vector>
+
+using billiard::EventQueue;
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The smallest key of a brute-force copy, and whether the queue's top has that key.
+void expect_top_is_minimum(EventQueue& queue, const std::vector<double>& keys) {
+  const double least = *std::min_element(keys.begin(), keys.end());
+  const EventQueue::Entry& top = queue.top();
+  ASSERT_EQ(top.time, least);
+  ASSERT_EQ(keys[top.disc], least);
+  ASSERT_EQ(queue.key(top.disc), least);
+}
+
+}  // namespace
+
+TEST(EventQueue, RandomChangesKeepTheMinimumOnTop) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const int n = 500;
+  std::vector<double> keys(n);
+  std::vector<int> tags(n);
+  for (int d = 0; d < n; ++d) {
+    keys[d] = 10 * uniform(rng);
+    tags[d] = d;
+  }
+  EventQueue queue;
+  queue.assign(keys, tags);
+  ASSERT_TRUE(queue.valid());
+  double now = 0.0;
+  for (int step = 0; step < 200000; ++step) {
+    expect_top_is_minimum(queue, keys);
+    const EventQueue::Entry top = queue.top();
+    now = top.time;
+    ASSERT_EQ(queue.tag(top.disc), tags[top.disc]);
+    // The top's next event: mostly a little ahead, sometimes far ahead or never.
+    const double r = uniform(rng);
+    const double next = r < 0.01 ? kInf : r < 0.05 ? now + 1000 * uniform(rng) : now + 10 * uniform(rng);
+    keys[top.disc] = next;
+    tags[top.disc] = step;
+    queue.update(top.disc, next, step);
+    // And a random other disc rescheduled (a partner's collision): earlier or later.
+    const int other = static_cast<int>(rng() % n);
+    keys[other] = now + (uniform(rng) < 0.5 ? 0.01 : 20) * uniform(rng);
+    queue.update(other, keys[other]);
+    if (step % 1000 == 0) {
+      ASSERT_TRUE(queue.valid()) << "step " << step;
+    }
+  }
+  ASSERT_TRUE(queue.valid());
+}
+
+TEST(EventQueue, TimeScaleChangeAndInfiniteKeys) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const int n = 3000;  // more than the heap limit (1024), so that the bucket width is re-planned
+  std::vector<double> keys(n, kInf);  // nothing scheduled at first
+  EventQueue queue;
+  queue.assign(keys);
+  ASSERT_TRUE(queue.valid());
+  expect_top_is_minimum(queue, keys);
+  // Events 1e6 times closer together than before, then 1e6 times further apart.
+  double now = 0.0;
+  for (double scale : {1.0, 1e-6, 1.0}) {
+    for (int d = 0; d < n; ++d) {
+      keys[d] = now + scale * uniform(rng);
+      queue.update(d, keys[d]);
+    }
+    for (int step = 0; step < 50000; ++step) {
+      expect_top_is_minimum(queue, keys);
+      const int disc = queue.top().disc;
+      now = queue.top().time;
+      keys[disc] = now + scale * uniform(rng);
+      queue.update(disc, keys[disc]);
+    }
+    ASSERT_TRUE(queue.valid());
+  }
+  // Back to nothing scheduled: the top is infinite.
+  for (int d = 0; d < n; ++d) {
+    keys[d] = kInf;
+    queue.update(d, kInf);
+  }
+  expect_top_is_minimum(queue, keys);
+  EXPECT_EQ(queue.top().time, kInf);
+  ASSERT_TRUE(queue.valid());
+}
+
+TEST(EventQueue, SingleEntryAndEqualKeys) {
+  EventQueue queue;
+  queue.assign({3.0});
+  EXPECT_EQ(queue.top().disc, 0);
+  EXPECT_EQ(queue.runner_up().disc, 0);
+  queue.update(0, 5.0);
+  EXPECT_EQ(queue.top().time, 5.0);
+  // Many equal keys (discs touching at one instant): all come out at that time.
+  std::vector<double> keys(50, 2.0);
+  queue.assign(keys);
+  for (int k = 0; k < 50; ++k) {
+    ASSERT_EQ(queue.top().time, 2.0);
+    queue.update(queue.top().disc, 4.0 + k);
+  }
+  EXPECT_EQ(queue.top().time, 4.0);
+  EXPECT_TRUE(queue.valid());
+}
