@@ -106,7 +106,7 @@ after the first advance(); restitution and the event log can still change. Units
 States are dicts of numpy arrays: time, position (n, 2), velocity (n, 2), spin (n,),
 mass (n,), radius (n,), inertia (n,). Bad input raises ValueError naming the disc and value.)");
 
-  sim.def(py::init<>())
+  sim.def(py::init<>(), "An empty simulation: no container, no discs, no gravity, smooth elastic collisions.")
       .def("set_circular_table", &Simulation::set_circular_table, py::arg("radius"),
            "Circular table of this radius centred at the origin; discs live inside it.")
       .def("set_periodic_box", &Simulation::set_periodic_box, py::arg("width"), py::arg("height"),
@@ -177,7 +177,7 @@ mass (n,), radius (n,), inertia (n,). Bad input raises ValueError naming the dis
           "Advances by `events` collisions or `time`, whichever comes first; returns counts (collisions,\n"
           "disc_collisions, wall_collisions, cell_crossings, stale_events), elapsed and stuck.")
       .def_property_readonly("time", &Simulation::time, "The current time.")
-      .def("__len__", &Simulation::size)
+      .def("__len__", &Simulation::size, "Number of discs.")
       .def_property_readonly(
           "current_state", [](const Simulation& s) { return state_dict(s, s.current_state()); },
           "The discs now (all advanced to `time`), as a dict of numpy arrays.")
@@ -186,7 +186,7 @@ mass (n,), radius (n,), inertia (n,). Bad input raises ValueError naming the dis
           "The discs at the first advance() (or now, before it).")
       .def("enable_event_log", &Simulation::enable_event_log, py::arg("on") = true,
            "Record every collision (enable before the first advance() to replay).")
-      .def("clear_event_log", &Simulation::clear_event_log)
+      .def("clear_event_log", &Simulation::clear_event_log, "Forget the recorded events (the log keeps recording if enabled).")
       .def_property_readonly(
           "event_log", [](const Simulation& s) { return event_log_dict(s.event_log()); },
           "The recorded collisions as a dict of arrays: time, kind (DISC_DISC or DISC_WALL), disc, other (-1 for a\n"
@@ -225,7 +225,8 @@ mass (n,), radius (n,), inertia (n,). Bad input raises ValueError naming the dis
             return out;
           },
           "The walls as dicts: kind ('segment', 'point', 'circle'), a, b, radius.")
-      .def_property_readonly("gravity", [](const Simulation& s) { return py::make_tuple(s.gravity().x(), s.gravity().y()); })
+      .def_property_readonly("gravity", [](const Simulation& s) { return py::make_tuple(s.gravity().x(), s.gravity().y()); },
+                             "Uniform gravity (gx, gy).")
       .def_property_readonly("period", [](const Simulation& s) { return py::make_tuple(s.period().x(), s.period().y()); },
                              "(width, height) of the periodic box; (0, 0) if none.")
       .def_property_readonly("table_radius", &Simulation::table_radius, "Radius of the circular table; 0 if none.");
