@@ -34,6 +34,11 @@ class Replay {
   // std::logic_error when finished().
   State after_next_event();
 
+  // Applies the logged events up to number k (k >= applied()) and returns the state just after
+  // event k, at its time. Throws std::invalid_argument if event k is not in the log or already
+  // applied.
+  State after_event(std::size_t k);
+
   // The state at time t: applies every logged event up to t. Times must not decrease from one
   // call to the next (std::invalid_argument otherwise, naming t); t may lie beyond the last
   // logged event (free flight from there).

@@ -62,6 +62,17 @@ State Replay::after_next_event() {
   return state_at(t);
 }
 
+State Replay::after_event(std::size_t k) {
+  const auto& log = simulation_->event_log();
+  if (k >= log.size() || k < next_) {
+    throw std::invalid_argument("Replay::after_event: k must be in [" + std::to_string(next_) + ", " +
+                                std::to_string(log.size()) + "), got " + std::to_string(k));
+  }
+  while (next_ <= k) apply(next_++);
+  time_ = log[k].time;
+  return state_at(time_);
+}
+
 State Replay::at(double t) {
   if (!std::isfinite(t) || t < time_) {
     std::ostringstream message;

@@ -2,6 +2,7 @@
 // The event loop itself is in engine.cpp.
 #include "billiard/simulation.hpp"
 
+#include "billiard/replay.hpp"
 #include "engine.hpp"
 
 #include <algorithm>
@@ -531,61 +532,16 @@ void Simulation::enable_event_log(bool on) { engine_->logging = on; }
 void Simulation::clear_event_log() { engine_->log.clear(); }
 const std::vector<EventRecord>& Simulation::event_log() const { return engine_->log; }
 
-namespace {
-
-// Rebuilds the state at `time` from the initial state and the logged events with index < count:
-// between events every disc moves freely, so the last logged position and velocity of each disc
-// and the time they were logged determine it.
-State replay(const State& initial, const std::vector<EventRecord>& log, std::size_t count, double time,
-             const Vec2& gravity, bool periodic, const Vec2& period) {
-  State state = initial;
-  const Eigen::Index n = initial.positions.rows();
-  Eigen::VectorXd since = Eigen::VectorXd::Constant(n, initial.time);
-  for (std::size_t k = 0; k < count && k < log.size(); ++k) {
-    const EventRecord& e = log[k];
-    state.positions.row(e.disc) = e.position.transpose();
-    state.velocities.row(e.disc) = e.velocity.transpose();
-    state.spins[e.disc] = e.spin;
-    since[e.disc] = e.time;
-    if (e.other >= 0) {
-      state.positions.row(e.other) = e.other_position.transpose();
-      state.velocities.row(e.other) = e.other_velocity.transpose();
-      state.spins[e.other] = e.other_spin;
-      since[e.other] = e.time;
-    }
-  }
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double dt = time - since[i];
-    Vec2 r = state.positions.row(i).transpose();
-    Vec2 v = state.velocities.row(i).transpose();
-    r += dt * (v + 0.5 * dt * gravity);
-    v += dt * gravity;
-    if (periodic) {
-      r.x() -= period.x() * std::floor(r.x() / period.x());
-      r.y() -= period.y() * std::floor(r.y() / period.y());
-    }
-    state.positions.row(i) = r.transpose();
-    state.velocities.row(i) = v.transpose();
-  }
-  state.time = time;
-  return state;
-}
-
-}  // namespace
-
+// Replays rebuild states from the initial state and the log (billiard/replay.hpp).
 State Simulation::replay_after_event(std::size_t k) const {
   const Engine& e = *engine_;
   if (k >= e.log.size()) refuse("replay_after_event: k must be < the log size " + std::to_string(e.log.size()) + ", got " + std::to_string(k));
-  return replay(initial_state(), e.log, k + 1, e.log[k].time, e.gravity, e.periodic, e.period);
+  return Replay(*this).after_event(k);
 }
 
 State Simulation::replay_at(double t) const {
-  const Engine& e = *engine_;
   if (!std::isfinite(t) || t < initial_state().time) refuse("replay_at: time must be finite and >= the initial time, got " + number(t));
-  // Events at or before t, found by binary search on the log's times.
-  const auto end = std::upper_bound(e.log.begin(), e.log.end(), t,
-                                    [](double time, const EventRecord& record) { return time < record.time; });
-  return replay(initial_state(), e.log, static_cast<std::size_t>(end - e.log.begin()), t, e.gravity, e.periodic, e.period);
+  return Replay(*this).at(t);
 }
 
 std::string Simulation::validate(double tolerance) {
