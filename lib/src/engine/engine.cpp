@@ -126,79 +126,59 @@ double Simulation::Engine::wall_time(const Wall& wall, const Vec2& r, const Vec2
 
 namespace {
 
-// Pair tests of disc i (at r, v, radius, time t0) against the discs of cell c, whose positions
-// are shifted by `shift` (a periodic image). Gravity is a template parameter so that the common
-// case pays nothing for it. (A branch-free variant, computing the root for every pair and
-// masking it, was measured no faster with billiard_bench at N = 10^4: the early rejections
-// below save the square root and the division for most pairs.)
+// One pair test: disc i (at r, v, radius, time t0) against disc j, whose position is shifted by
+// `shift` (a periodic image); keeps the contact in `s` if it is the earliest so far. Gravity is a
+// template parameter so that the common case pays nothing for it. (A branch-free variant,
+// computing the root for every pair and masking it, was measured no faster with billiard_bench
+// at N = 10^4: the early rejections below save the square root and the division for most pairs.)
+template <bool kGravity>
+inline void test_pair(const BigVector<HotDisc>& hot, const Vec2& gravity, int i, int j, const Vec2& shift,
+                      const Vec2& r, const Vec2& v, double radius, double t0, Scheduled& s) {
+  const HotDisc& o = hot[j];
+  const double dt = t0 - o.time;
+  Vec2 rj = o.position + dt * o.velocity + shift;
+  Vec2 vj = o.velocity;
+  if (kGravity) {
+    rj += (0.5 * dt * dt) * gravity;
+    vj += dt * gravity;
+  }
+  const Vec2 dr = r - rj;
+  const Vec2 dv = v - vj;
+  const double b = dr.dot(dv);
+  if (b >= 0 || j == i) return;  // flying apart (or grazing), or i itself
+  const double contact = radius + o.radius;
+  const double c2 = dr.squaredNorm() - contact * contact;
+  // Cheap rejection before the square root: the root c / (-b + sqrt(..)) is at least
+  // c / (-2b), so a pair that cannot beat the best event so far is skipped (written as a
+  // product, c >= (best - t0) (-2b), to avoid a division).
+  if (c2 > 0 && c2 >= (s.contact_time - t0) * (-2 * b)) return;
+  const double discriminant = b * b - dv.squaredNorm() * c2;
+  if (discriminant < 0) return;  // they miss
+  // Earlier root of dv.dv t^2 + 2 b t + c = 0, stable form; c < 0 (rounding overlap while
+  // approaching) gives a negative root: collide now.
+  const double t = t0 + std::max(c2 / (std::sqrt(discriminant) - b), 0.0);
+  if (t < s.contact_time) {
+    s.contact_time = t;
+    s.partner = j;
+    s.partner_counter = o.counter;
+  }
+}
+
+// Pair tests of disc i against the discs of cell c, seen through the image shift `shift`.
 template <bool kGravity>
 inline void scan_discs(const BigVector<HotDisc>& hot, const Grid& grid, const Vec2& gravity, int i, int c,
                        const Vec2& shift, const Vec2& r, const Vec2& v, double radius, double t0, Scheduled& s) {
   const int* items = cell_discs(grid, c);
   const int count = cell_disc_count(grid, c);
-  for (int k = 0; k < count; ++k) {
-    const int j = items[k];
-    const HotDisc& o = hot[j];
-    const double dt = t0 - o.time;
-    Vec2 rj = o.position + dt * o.velocity + shift;
-    Vec2 vj = o.velocity;
-    if (kGravity) {
-      rj += (0.5 * dt * dt) * gravity;
-      vj += dt * gravity;
-    }
-    const Vec2 dr = r - rj;
-    const Vec2 dv = v - vj;
-    const double b = dr.dot(dv);
-    if (b >= 0 || j == i) continue;  // flying apart (or grazing), or i itself
-    const double contact = radius + o.radius;
-    const double c2 = dr.squaredNorm() - contact * contact;
-    // Cheap rejection before the square root: the root c / (-b + sqrt(..)) is at least
-    // c / (-2b), so a pair that cannot beat the best event so far is skipped (written as a
-    // product, c >= (best - t0) (-2b), to avoid a division).
-    if (c2 > 0 && c2 >= (s.contact_time - t0) * (-2 * b)) continue;
-    const double discriminant = b * b - dv.squaredNorm() * c2;
-    if (discriminant < 0) continue;  // they miss
-    // Earlier root of dv.dv t^2 + 2 b t + c = 0, stable form; c < 0 (rounding overlap while
-    // approaching) gives a negative root: collide now.
-    const double t = t0 + std::max(c2 / (std::sqrt(discriminant) - b), 0.0);
-    if (t < s.contact_time) {
-      s.contact_time = t;
-      s.partner = j;
-      s.partner_counter = o.counter;
-    }
-  }
+  for (int k = 0; k < count; ++k) test_pair<kGravity>(hot, gravity, i, items[k], shift, r, v, radius, t0, s);
 }
 
 // The same pair tests against a list of discs (no periodic shift).
 template <bool kGravity>
 inline void scan_list(const BigVector<HotDisc>& hot, const Vec2& gravity, int i, const int* list, int count,
                       const Vec2& r, const Vec2& v, double radius, double t0, Scheduled& s) {
-  for (int k = 0; k < count; ++k) {
-    const int j = list[k];
-    const HotDisc& o = hot[j];
-    const double dt = t0 - o.time;
-    Vec2 rj = o.position + dt * o.velocity;
-    Vec2 vj = o.velocity;
-    if (kGravity) {
-      rj += (0.5 * dt * dt) * gravity;
-      vj += dt * gravity;
-    }
-    const Vec2 dr = r - rj;
-    const Vec2 dv = v - vj;
-    const double b = dr.dot(dv);
-    if (b >= 0 || j == i) continue;
-    const double contact = radius + o.radius;
-    const double c2 = dr.squaredNorm() - contact * contact;
-    if (c2 > 0 && c2 >= (s.contact_time - t0) * (-2 * b)) continue;
-    const double discriminant = b * b - dv.squaredNorm() * c2;
-    if (discriminant < 0) continue;
-    const double t = t0 + std::max(c2 / (std::sqrt(discriminant) - b), 0.0);
-    if (t < s.contact_time) {
-      s.contact_time = t;
-      s.partner = j;
-      s.partner_counter = o.counter;
-    }
-  }
+  const Vec2 none = Vec2::Zero();
+  for (int k = 0; k < count; ++k) test_pair<kGravity>(hot, gravity, i, list[k], none, r, v, radius, t0, s);
 }
 
 }  // namespace
