@@ -499,26 +499,19 @@ double Simulation::memory_bytes() const {
                              e.grid.wall_items.capacity() * sizeof(int) + e.log.capacity() * sizeof(EventRecord));
 }
 
-Eigen::VectorXd Simulation::radii() const {
-  const Engine& e = *engine_;
-  Eigen::VectorXd out(static_cast<Eigen::Index>(e.hot.size()));
-  for (std::size_t i = 0; i < e.hot.size(); ++i) out[static_cast<Eigen::Index>(i)] = e.hot[i].radius;
+namespace {
+// One field of every disc record as an array of N.
+template <class Records, class Field>
+Eigen::VectorXd column(const Records& records, Field field) {
+  Eigen::VectorXd out(static_cast<Eigen::Index>(records.size()));
+  for (std::size_t i = 0; i < records.size(); ++i) out[static_cast<Eigen::Index>(i)] = records[i].*field;
   return out;
 }
+}  // namespace
 
-Eigen::VectorXd Simulation::masses() const {
-  const Engine& e = *engine_;
-  Eigen::VectorXd out(static_cast<Eigen::Index>(e.cold.size()));
-  for (std::size_t i = 0; i < e.cold.size(); ++i) out[static_cast<Eigen::Index>(i)] = e.cold[i].mass;
-  return out;
-}
-
-Eigen::VectorXd Simulation::inertias() const {
-  const Engine& e = *engine_;
-  Eigen::VectorXd out(static_cast<Eigen::Index>(e.cold.size()));
-  for (std::size_t i = 0; i < e.cold.size(); ++i) out[static_cast<Eigen::Index>(i)] = e.cold[i].inertia;
-  return out;
-}
+Eigen::VectorXd Simulation::radii() const { return column(engine_->hot, &HotDisc::radius); }
+Eigen::VectorXd Simulation::masses() const { return column(engine_->cold, &ColdDisc::mass); }
+Eigen::VectorXd Simulation::inertias() const { return column(engine_->cold, &ColdDisc::inertia); }
 
 Vec2 Simulation::gravity() const { return engine_->gravity; }
 Restitution Simulation::restitution() const { return engine_->restitution; }
