@@ -11,19 +11,18 @@
 #include <random>
 #include <vector>
 
-using billiard::EventQueue;
+using Queue = billiard::CalendarQueue<billiard::VectorKeys>;
 
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // The smallest key of a brute-force copy, and whether the queue's top has that key.
-void expect_top_is_minimum(EventQueue& queue, const std::vector<double>& keys) {
+void expect_top_is_minimum(Queue& queue, const std::vector<double>& keys) {
   const double least = *std::min_element(keys.begin(), keys.end());
-  const EventQueue::Entry& top = queue.top();
+  const Queue::Entry& top = queue.top();
   ASSERT_EQ(top.time, least);
   ASSERT_EQ(keys[top.disc], least);
-  ASSERT_EQ(queue.key(top.disc), least);
 }
 
 }  // namespace
@@ -38,15 +37,16 @@ TEST(EventQueue, RandomChangesKeepTheMinimumOnTop) {
     keys[d] = 10 * uniform(rng);
     tags[d] = d;
   }
-  EventQueue queue;
-  queue.assign(keys, tags);
+  Queue queue(billiard::VectorKeys{&keys});
+  queue.assign(n, tags);
   ASSERT_TRUE(queue.valid());
   double now = 0.0;
   for (int step = 0; step < 200000; ++step) {
     expect_top_is_minimum(queue, keys);
-    const EventQueue::Entry top = queue.top();
+    const Queue::Entry top = queue.top();
     now = top.time;
-    ASSERT_EQ(queue.tag(top.disc), tags[top.disc]);
+    ASSERT_EQ(top.tag, tags[top.disc]);
+    queue.pop();
     // The top's next event: mostly a little ahead, sometimes far ahead or never.
     const double r = uniform(rng);
     const double next = r < 0.01 ? kInf : r < 0.05 ? now + 1000 * uniform(rng) : now + 10 * uniform(rng);
@@ -56,7 +56,8 @@ TEST(EventQueue, RandomChangesKeepTheMinimumOnTop) {
     // And a random other disc rescheduled (a partner's collision): earlier or later.
     const int other = static_cast<int>(rng() % n);
     keys[other] = now + (uniform(rng) < 0.5 ? 0.01 : 20) * uniform(rng);
-    queue.update(other, keys[other]);
+    tags[other] = -step;
+    queue.update(other, keys[other], tags[other]);
     if (step % 1000 == 0) {
       ASSERT_TRUE(queue.valid()) << "step " << step;
     }
@@ -69,8 +70,8 @@ TEST(EventQueue, TimeScaleChangeAndInfiniteKeys) {
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   const int n = 3000;  // more than the heap limit (1024), so that the bucket width is re-planned
   std::vector<double> keys(n, kInf);  // nothing scheduled at first
-  EventQueue queue;
-  queue.assign(keys);
+  Queue queue(billiard::VectorKeys{&keys});
+  queue.assign(n);
   ASSERT_TRUE(queue.valid());
   expect_top_is_minimum(queue, keys);
   // Events 1e6 times closer together than before, then 1e6 times further apart.
@@ -84,6 +85,7 @@ TEST(EventQueue, TimeScaleChangeAndInfiniteKeys) {
       expect_top_is_minimum(queue, keys);
       const int disc = queue.top().disc;
       now = queue.top().time;
+      queue.pop();
       keys[disc] = now + scale * uniform(rng);
       queue.update(disc, keys[disc]);
     }
@@ -100,19 +102,58 @@ TEST(EventQueue, TimeScaleChangeAndInfiniteKeys) {
 }
 
 TEST(EventQueue, SingleEntryAndEqualKeys) {
-  EventQueue queue;
-  queue.assign({3.0});
+  std::vector<double> one = {3.0};
+  Queue queue(billiard::VectorKeys{&one});
+  queue.assign(1);
   EXPECT_EQ(queue.top().disc, 0);
-  EXPECT_EQ(queue.runner_up().disc, 0);
+  queue.pop();
+  EXPECT_EQ(queue.upcoming(), nullptr);
+  one[0] = 5.0;
   queue.update(0, 5.0);
   EXPECT_EQ(queue.top().time, 5.0);
-  // Many equal keys (discs touching at one instant): all come out at that time.
+  // Many equal keys (discs touching at one instant): all come out at that time, each once.
   std::vector<double> keys(50, 2.0);
-  queue.assign(keys);
+  Queue equal(billiard::VectorKeys{&keys});
+  equal.assign(50);
+  std::vector<int> seen(50, 0);
   for (int k = 0; k < 50; ++k) {
-    ASSERT_EQ(queue.top().time, 2.0);
-    queue.update(queue.top().disc, 4.0 + k);
+    ASSERT_EQ(equal.top().time, 2.0);
+    const int disc = equal.top().disc;
+    ++seen[disc];
+    equal.pop();
+    keys[disc] = 4.0 + k;
+    equal.update(disc, keys[disc]);
   }
-  EXPECT_EQ(queue.top().time, 4.0);
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), 50);
+  EXPECT_EQ(equal.top().time, 4.0);
+  EXPECT_TRUE(equal.valid());
+}
+
+// Superseded entries (the old keys of a disc whose key changed before it came up) never come
+// out: a disc moved earlier, later, far away and back again comes out once, at its last key.
+TEST(EventQueue, SupersededEntriesNeverComeOut) {
+  const int n = 2000;
+  std::vector<double> keys(n);
+  for (int d = 0; d < n; ++d) keys[d] = 1.0 + d;
+  Queue queue(billiard::VectorKeys{&keys});
+  queue.assign(n);
+  // Disc 7: 8 -> 0.5 (into the current bucket) -> 1500 -> 1e9 (overflow) -> 3.25.
+  for (double t : {0.5, 1500.0, 1e9, 3.25}) {
+    keys[7] = t;
+    queue.update(7, t);
+  }
+  std::vector<double> popped;
+  double last = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const Queue::Entry top = queue.top();
+    ASSERT_EQ(top.time, keys[top.disc]) << "a superseded entry came out at step " << k;
+    ASSERT_GE(top.time, last);
+    last = top.time;
+    if (top.disc == 7) popped.push_back(top.time);
+    queue.pop();
+    keys[top.disc] = 1e12 + k;  // out of the way
+    queue.update(top.disc, keys[top.disc]);
+  }
+  EXPECT_EQ(popped, std::vector<double>({3.25}));
   EXPECT_TRUE(queue.valid());
 }

@@ -1,22 +1,30 @@
-// The event queue: exactly one entry per disc, keyed by the time of that disc's earliest
-// scheduled event. A disc's key is changed in place instead of pushing a new entry, so the queue
-// never grows beyond N and holds no stale entries of its own; staleness of a *partner* is
-// detected with collision counters (Lubachevsky 1991).
+// The event queue: one key per disc, the time of that disc's earliest scheduled event; the
+// caller asks for the disc with the smallest key, pops it, and changes keys. Staleness of a
+// *partner* is detected by the engine with collision counters (Lubachevsky 1991); staleness of
+// the queue's own entries is detected here, lazily.
 //
 // Structure: a calendar of time buckets in front of a small heap (the O(1) queue of Paul,
 // J. Comput. Phys. 221, 615 (2007)). The time axis is cut into buckets of width `width`; the
-// entries of the current bucket (all keys before `horizon`) sit in an indexed 4-ary min-heap,
-// those of the next `buckets` buckets in unsorted doubly linked lists (one per bucket, linked
-// through per-disc arrays), the rest in an overflow list. Changing a key is an O(1) unlink and
-// push in the common case (a disc's next event lies several buckets ahead); only the few
-// entries of the current bucket pay heap operations, on a heap small enough to stay in cache.
-// When the heap runs empty, the next bucket's list is moved into it. The width is chosen from
-// the keys at assign() so that a bucket holds about kPerBucket entries, and re-chosen when a
-// full turn of the calendar shows it is far off (the event rate changed).
+// entries of the current bucket (all keys before `horizon`) sit in a 4-ary min-heap, those of the
+// next `buckets` buckets in unsorted chunks of three entries (one 64-byte chunk per bucket, more
+// chained from a pool when it fills), the rest in an overflow list. When the heap runs empty, the
+// next bucket's chunks are moved into it. The width is chosen from the keys so that a bucket
+// holds about kPerBucket entries, and re-chosen when a turn of the calendar shows it is far off.
 //
-// The 4-ary heap alone (one cache line per group of four children) cost ~25% of the event loop
-// at N = 10^4 and ~33% at 10^5 (perf), its deep levels missing the caches; figures with
-// billiard_bench in lib/src/engine/README-performance.md.
+// Lazy deletion: the keys live with the caller (the engine: the earlier of each disc's predicted
+// contact and cell crossing), read through `Keys`. Changing a disc's key files a new entry
+// (time, disc, tag); the old entry stays where it is. An entry is current while its time equals
+// its disc's key; others are dropped when they reach the top of the heap (or at a turn of the
+// calendar, for the overflow list). Two current entries of one disc (the key changed and came
+// back to the same time) are harmless: both say "this disc's event is due at this time", and the
+// caller re-keys the disc when it handles the first. So a key change is one append to a bucket's
+// chunk, instead of unlinking from a list and fixing the heap positions of the entries it moves
+// (each a cache miss at large N). When a bucket is moved into the heap, the keys of its entries
+// are prefetched (Keys::prefetch): they are read a few events later. Measured with
+// billiard_bench, figures in lib/src/engine/README-performance.md.
+//
+// Keys: a small copyable object with `double key(int disc) const` and
+// `void prefetch(int disc) const` (a hint; may do nothing). VectorKeys reads a std::vector.
 #pragma once
 
 #include "billiard/memory.hpp"
@@ -32,114 +40,115 @@ namespace billiard {
 
 enum class EventKind : int { DiscDisc, DiscWall, CellCrossing };
 
-class EventQueue {
+// Keys held in a vector by the caller (tests, small tools).
+struct VectorKeys {
+  const std::vector<double>* keys = nullptr;
+  double key(int disc) const { return (*keys)[static_cast<std::size_t>(disc)]; }
+  void prefetch(int) const {}
+};
+
+template <class Keys>
+class CalendarQueue {
  public:
-  struct Entry {  // 16 bytes: the key next to the disc, so a sift touches one array
+  struct Entry {  // 16 bytes: four to a cache line
     double time;
     int disc;
     int tag;  // carried along for the caller (the engine: the cell to prefetch for this event)
   };
 
-  // n discs, keys `times` (size n) and tags `tags` (size n, or empty: all 0).
-  void assign(const std::vector<double>& times, const std::vector<int>& tags = {}) {
-    const int n = static_cast<int>(times.size());
-    node_.assign(static_cast<std::size_t>(n), Node{});
-    for (int d = 0; d < n; ++d) {
-      node_[d].time = times[d];
-      node_[d].tag = tags.empty() ? 0 : tags[d];
-    }
-    rebuild();
+  CalendarQueue() = default;
+  explicit CalendarQueue(const Keys& keys) : keys_(keys) {}
+  // Where the keys are read (set again if the caller's array moved).
+  void set_keys(const Keys& keys) { keys_ = keys; }
+
+  // n discs, one entry each with its current key, tags `tags` (size n, or empty: all 0).
+  void assign(int n, const std::vector<int>& tags = {}) {
+    size_ = n;
+    std::vector<Entry> entries(static_cast<std::size_t>(n));
+    for (int d = 0; d < n; ++d) entries[d] = Entry{keys_.key(d), d, tags.empty() ? 0 : tags[d]};
+    rebuild(entries);
   }
 
-  bool empty() const { return node_.empty(); }
-  int size() const { return static_cast<int>(node_.size()); }
+  bool empty() const { return size_ == 0; }
+  int size() const { return size_; }
 
-  // The earliest entry (the queue must not be empty).
+  // The current entry with the smallest key (the queue must not be empty). It stays in the queue
+  // until pop().
   const Entry& top() {
-    if (heap_size_ == 0) refill();
-    return at(0);
+    while (true) {
+      if (heap_size_ == 0) refill();
+      if (heap_size_ == 0) return kNothing;  // (only when no disc was assigned)
+      const Entry& e = at(0);
+      if (keys_.key(e.disc) == e.time) return e;
+      heap_pop();  // superseded by a later key change
+    }
   }
-  double key(int disc) const { return node_[disc].time; }
-  int tag(int disc) const { return node_[disc].tag; }
+  // Removes the entry top() returned; the caller then gives its disc a new key with update().
+  void pop() { heap_pop(); }
 
-  // The smallest child of the heap's root: the likely next top if the top's key grows (the
-  // caller prefetches its data). Call after top(); the top itself when the heap has one entry.
-  const Entry& runner_up() const {
-    const int n = heap_size_;
-    if (n < 2) return at(0);
-    int best = 1;
-    for (int c = 2, last = std::min(kArity + 1, n); c < last; ++c) {
-      if (at(c).time < at(best).time) best = c;
-    }
-    return at(best);
-  }
+  // The heap's first entry after pop(), possibly superseded: the likely next top (the caller
+  // prefetches its data), or nullptr when the heap must be refilled first.
+  const Entry* upcoming() const { return heap_size_ > 0 ? &at(0) : nullptr; }
 
-  // Changes the key and the tag of `disc`.
-  void update(int disc, double time, int tag) {
-    node_[disc].tag = tag;
-    update(disc, time);
-  }
-  void update(int disc, double time) {
-    Node& node = node_[disc];
-    node.time = time;
-    const int k = node.slot;
-    if (k >= 0 && time < horizon_) {  // stays in the heap
-      const double old = at(k).time;
-      at(k).time = time;
-      at(k).tag = node.tag;
-      if (time < old) {
-        sift_up(k);
-      } else {
-        sift_down(k);
-      }
-      return;
-    }
-    if (k >= 0) {
-      heap_erase(k);
-    } else {
-      unlink(disc);
-    }
-    insert(disc);
+  // Files `disc`'s new key `time`, which the caller has already stored where Keys reads it.
+  void update(int disc, double time, int tag = 0) {
+    file(Entry{time, disc, tag});
     // Far more entries in the current bucket than planned: the events came closer together
-    // (the buckets are too wide; the heap would grow to hold everything). Re-plan, at most once
-    // per size() changes so that a pile of equal keys cannot make it quadratic.
-    if (++changes_ > size() && heap_size_ > kHeapLimit) rebuild();
+    // (the buckets are too wide). Re-plan, at most once per size() changes so that a pile of
+    // equal keys cannot make it quadratic.
+    if (++changes_ > size() && heap_size_ > kHeapLimit) rebuild(collect());
   }
 
-  // Heap order, every heap key before the horizon, every listed key in its bucket, and the
-  // indices pointing back at their entries (for validation).
+  // Heap order, every heap entry before the horizon, every chunk entry in its bucket and after
+  // the horizon, and a current entry for every disc (for validation).
   bool valid() const {
-    for (int k = 1; k < heap_size_; ++k) {
-      if (at((k - 1) / kArity).time > at(k).time) return false;
-    }
+    const bool bounded = horizon_ < std::numeric_limits<double>::infinity();
+    std::vector<char> seen(static_cast<std::size_t>(size_), 0);
+    auto note = [&](const Entry& e) {
+      if (e.disc < 0 || e.disc >= size()) return false;
+      if (keys_.key(e.disc) == e.time) seen[e.disc] = 1;
+      return true;
+    };
     for (int k = 0; k < heap_size_; ++k) {
       const Entry& e = at(k);
-      const Node& node = node_[e.disc];
-      if (node.slot != k || e.time != node.time || e.tag != node.tag) return false;
-      if (!(e.time < horizon_) && horizon_ < std::numeric_limits<double>::infinity()) return false;
+      if (k > 0 && at((k - 1) / kArity).time > e.time) return false;
+      if (bounded && !(e.time < horizon_)) return false;
+      if (!note(e)) return false;
     }
-    int listed = 0;
-    for (int b = 0; b <= buckets_; ++b) {
-      for (int d = head_[b]; d >= 0; d = node_[d].next) {
-        ++listed;
-        const Node& node = node_[d];
-        if (node.slot >= 0 || !(node.time >= horizon_)) return false;
-        if (b < buckets_ && (std::max(bucket_of(node.time), current_ + 1) & (buckets_ - 1)) != b) return false;
+    for (int b = 0; b < buckets_; ++b) {
+      for (int c = b; c >= 0; c = chunks_[c].next) {
+        for (int k = 0; k < chunks_[c].count; ++k) {
+          const Entry& e = chunks_[c].entry[k];
+          if (!(e.time >= horizon_) || (std::max(bucket_of(e.time), current_ + 1) & (buckets_ - 1)) != b) return false;
+          if (!note(e)) return false;
+        }
       }
     }
-    return listed + heap_size_ == size();
+    for (const Entry& e : overflow_) {
+      if (!(e.time >= horizon_) || !note(e)) return false;
+    }
+    return std::all_of(seen.begin(), seen.end(), [](char s) { return s != 0; });
   }
 
   std::size_t memory_bytes() const {
-    return storage_.capacity() * sizeof(Entry) + node_.capacity() * sizeof(Node) + head_.capacity() * sizeof(int);
+    return storage_.capacity() * sizeof(Entry) + chunks_.capacity() * sizeof(Chunk) +
+           free_.capacity() * sizeof(int) + overflow_.capacity() * sizeof(Entry);
   }
 
  private:
   static constexpr int kArity = 4;
   static constexpr int kPad = 3;  // root at storage_[kPad]: each group of 4 children on one cache line
-  static constexpr double kPerBucket = 4.0;  // entries per bucket aimed at
+  static constexpr double kPerBucket = 3.0;  // current entries per bucket aimed at
   static constexpr int kNone = -1;
   static constexpr int kHeapLimit = 1024;  // heap size that calls for narrower buckets
+  static constexpr Entry kNothing{std::numeric_limits<double>::infinity(), kNone, 0};
+
+  // One bucket's entries, or the continuation of a bucket that holds more than three.
+  struct alignas(64) Chunk {
+    Entry entry[3];
+    int count = 0;
+    int next = kNone;  // the next chunk of the same bucket
+  };
 
   Entry& at(int k) { return storage_[static_cast<std::size_t>(k) + kPad]; }
   const Entry& at(int k) const { return storage_[static_cast<std::size_t>(k) + kPad]; }
@@ -151,34 +160,41 @@ class EventQueue {
     return b < 4.0e18 ? static_cast<std::int64_t>(b) : std::int64_t{4} << 60;
   }
 
-  void insert(int disc) {
-    const double t = node_[disc].time;
+  // Files an entry: into the heap if it falls in the current bucket, else into its bucket or the
+  // overflow list.
+  void file(const Entry& e) {
     // (horizon_ is infinite only when every key was at the last rebuild: then all go to the heap)
-    if (t < horizon_ || horizon_ == std::numeric_limits<double>::infinity()) {
-      heap_push(disc);
+    if (e.time < horizon_ || horizon_ == std::numeric_limits<double>::infinity()) {
+      heap_push(e);
       return;
     }
     // At least the next bucket: rounding must not put a key into the bucket already drained.
-    const std::int64_t b = std::max(bucket_of(t), current_ + 1);
-    push_front(disc, b < current_ + buckets_ ? static_cast<int>(b & (buckets_ - 1)) : buckets_);
+    const std::int64_t b = std::max(bucket_of(e.time), current_ + 1);
+    if (b < current_ + buckets_) {
+      append(static_cast<int>(b & (buckets_ - 1)), e);
+    } else {
+      overflow_.push_back(e);
+    }
   }
 
-  void push_front(int disc, int list) {
-    const int first = head_[list];
-    node_[disc].next = first;
-    node_[disc].prev = -2 - list;  // a head: the list's index, encoded below -1
-    if (first >= 0) node_[first].prev = disc;
-    head_[list] = disc;
-  }
-  void unlink(int disc) {
-    const int before = node_[disc].prev;
-    const int after = node_[disc].next;
-    if (before >= 0) {
-      node_[before].next = after;
-    } else {
-      head_[-2 - before] = after;
+  void append(int bucket, const Entry& e) {
+    Chunk* chunk = &chunks_[bucket];
+    if (chunk->count == 3) {
+      // Full: move its entries to a chunk from the pool, chained behind, and start again.
+      int spare;
+      if (!free_.empty()) {
+        spare = free_.back();
+        free_.pop_back();
+      } else {
+        spare = static_cast<int>(chunks_.size());
+        chunks_.emplace_back();
+        chunk = &chunks_[bucket];  // (the array may have moved)
+      }
+      chunks_[spare] = *chunk;
+      chunk->count = 0;
+      chunk->next = spare;
     }
-    if (after >= 0) node_[after].prev = before;
+    chunk->entry[chunk->count++] = e;
   }
 
   // The heap ran empty: move the next non-empty bucket into it, or re-plan the calendar.
@@ -186,51 +202,79 @@ class EventQueue {
     std::int64_t turn = 0;
     while (heap_size_ == 0) {
       if (++turn > buckets_) {  // a whole turn of empty buckets: only the overflow is left
-        rebuild();
+        rebuild(collect());  // (files the earliest entry into the heap, if there is any)
         return;
       }
       ++current_;
       horizon_ = origin_ + static_cast<double>(current_ + 1) * width_;
       const int b = static_cast<int>(current_ & (buckets_ - 1));
       if (b == 0) {
-        // A new turn of the calendar: overflow entries that now fall within reach move to
-        // their buckets. If the last turn saw far more or fewer entries per bucket than
-        // planned, the width no longer suits the event rate: re-plan.
+        // A new turn of the calendar. If the last turn saw far more or fewer entries per bucket
+        // than planned, the width no longer suits the event rate: re-plan. Otherwise overflow
+        // entries that now fall within reach move to their buckets (superseded ones are dropped).
         const double per_bucket = static_cast<double>(moved_) / buckets_;
         moved_ = 0;
         if (per_bucket > 8 * kPerBucket || per_bucket < kPerBucket / 8) {
-          rebuild();
+          rebuild(collect());
           return;
         }
-        for (int d = head_[buckets_], after; d >= 0; d = after) {
-          after = node_[d].next;
-          if (bucket_of(node_[d].time) < current_ + buckets_) {
-            unlink(d);
-            insert(d);
+        std::size_t kept = 0;
+        for (std::size_t k = 0; k < overflow_.size(); ++k) {
+          const Entry e = overflow_[k];
+          if (keys_.key(e.disc) != e.time) continue;
+          if (bucket_of(e.time) < current_ + buckets_) {
+            file(e);  // (never back into overflow_, never a rebuild)
+          } else {
+            overflow_[kept++] = e;
           }
         }
+        overflow_.resize(kept);
       }
-      for (int d = head_[b], after; d >= 0; d = after) {
-        after = node_[d].next;
-        heap_push(d);
-        ++moved_;
+      // The bucket after this one is the next to be drained: start loading it.
+      __builtin_prefetch(&chunks_[(current_ + 1) & (buckets_ - 1)]);
+      for (int c = b; c >= 0;) {
+        Chunk& chunk = chunks_[c];
+        for (int k = 0; k < chunk.count; ++k) {
+          keys_.prefetch(chunk.entry[k].disc);
+          heap_push(chunk.entry[k]);
+        }
+        moved_ += chunk.count;
+        const int after = chunk.next;
+        chunk.count = 0;
+        chunk.next = kNone;
+        if (c != b) free_.push_back(c);
+        c = after;
       }
-      head_[b] = kNone;
     }
   }
 
-  // Plans the calendar from the keys: width from the spread of the finite keys, origin at the
-  // earliest key, then files every entry.
-  void rebuild() {
-    const int n = size();
+  // Every current entry (one or more per disc), the queue emptied.
+  std::vector<Entry> collect() {
+    std::vector<Entry> entries;
+    entries.reserve(static_cast<std::size_t>(size_));
+    auto keep = [&](const Entry& e) {
+      if (keys_.key(e.disc) == e.time) entries.push_back(e);
+    };
+    for (int k = 0; k < heap_size_; ++k) keep(at(k));
+    for (int b = 0; b < buckets_; ++b) {
+      for (int c = b; c >= 0; c = chunks_[c].next) {
+        for (int k = 0; k < chunks_[c].count; ++k) keep(chunks_[c].entry[k]);
+      }
+    }
+    for (const Entry& e : overflow_) keep(e);
+    return entries;
+  }
+
+  // Plans the calendar from the entries' times: width from the spread of the finite times,
+  // origin at the earliest, then files every entry.
+  void rebuild(const std::vector<Entry>& entries) {
     double first = std::numeric_limits<double>::infinity();
-    for (const Node& node : node_) first = std::min(first, node.time);
+    for (const Entry& e : entries) first = std::min(first, e.time);
     double sum = 0.0;
     int finite = 0;
-    for (const Node& node : node_) {
-      const double t = node.time;
-      if (std::isfinite(t)) {
-        sum += t - first;
+    for (const Entry& e : entries) {
+      if (std::isfinite(e.time)) {
+        sum += e.time - first;
         ++finite;
       }
     }
@@ -248,49 +292,35 @@ class EventQueue {
     horizon_ = std::isfinite(first) ? origin_ + width_ : std::numeric_limits<double>::infinity();
     moved_ = 0;
     changes_ = 0;
-    storage_.assign(static_cast<std::size_t>(n) + kPad, Entry{0.0, -1, 0});
-    head_.assign(static_cast<std::size_t>(buckets_) + 1, kNone);
+    storage_.assign(std::max(entries.size(), std::size_t{64}) + kPad, Entry{0.0, -1, 0});
     heap_size_ = 0;
-    for (Node& node : node_) node.slot = node.next = node.prev = kNone;
-    for (int d = 0; d < n; ++d) insert(d);
+    chunks_.assign(static_cast<std::size_t>(buckets_), Chunk{});
+    free_.clear();
+    overflow_.clear();
+    for (const Entry& e : entries) file(e);
   }
 
-  void heap_push(int disc) {
-    const int k = heap_size_++;
-    at(k) = {node_[disc].time, disc, node_[disc].tag};
-    node_[disc].slot = k;
-    sift_up(k);
+  void heap_push(const Entry& e) {
+    if (static_cast<std::size_t>(heap_size_) + kPad >= storage_.size()) storage_.resize(2 * storage_.size());
+    sift_up(heap_size_++, e);
   }
-  void heap_erase(int k) {
-    const int disc = at(k).disc;
-    node_[disc].slot = kNone;
+  void heap_pop() {
     const int last = --heap_size_;
-    if (k == last) return;
-    const Entry moved = at(last);
-    const double old = at(k).time;
-    at(k) = moved;
-    node_[moved.disc].slot = k;
-    if (moved.time < old) {
-      sift_up(k);
-    } else {
-      sift_down(k);
-    }
+    if (last > 0) sift_down(0, at(last));
   }
 
-  void sift_up(int k) {
-    const Entry moving = at(k);
+  void sift_up(int k, const Entry& moving) {
     while (k > 0) {
       const int parent = (k - 1) / kArity;
       if (at(parent).time <= moving.time) break;
-      place(k, at(parent));
+      at(k) = at(parent);
       k = parent;
     }
-    place(k, moving);
+    at(k) = moving;
   }
-  // Top-down sift; the smallest of four children chosen without branches.
-  void sift_down(int k) {
+  // Top-down sift of `moving` from slot k; the smallest of four children chosen without branches.
+  void sift_down(int k, const Entry moving) {
     const int n = heap_size_;
-    const Entry moving = at(k);
     while (true) {
       const int first = kArity * k + 1;
       if (first >= n) break;
@@ -307,30 +337,21 @@ class EventQueue {
         }
       }
       if (moving.time <= at(child).time) break;
-      place(k, at(child));
+      at(k) = at(child);
       k = child;
     }
-    place(k, moving);
-  }
-  void place(int k, const Entry& entry) {
-    at(k) = entry;
-    node_[entry.disc].slot = k;
+    at(k) = moving;
   }
 
-  // Per disc: 32 bytes, half a cache line, so that a list operation touches one line per disc.
-  struct alignas(32) Node {
-    double time = 0.0;  // key
-    int tag = 0;
-    int slot = kNone;   // position in the heap, or kNone when in a list
-    int next = kNone;   // list links; prev below -1 encodes the list's head (-2 - list)
-    int prev = kNone;
-  };
-  BigVector<Node> node_;
-  // The heap of the current bucket.
+  Keys keys_{};
+  int size_ = 0;               // discs
+  // The heap of the current bucket (current and superseded entries).
   BigVector<Entry> storage_;   // cache-line aligned
   int heap_size_ = 0;
   // The calendar.
-  std::vector<int> head_;      // first disc of each bucket's list; [buckets_] = overflow
+  BigVector<Chunk> chunks_;    // [0, buckets_): each bucket's first chunk; then the pool
+  std::vector<int> free_;      // pool chunks not in use
+  std::vector<Entry> overflow_;  // entries beyond the calendar's turn
   int buckets_ = 1;
   double origin_ = 0.0;        // bucket b covers [origin_ + b width_, origin_ + (b + 1) width_)
   double width_ = 1.0;
@@ -338,7 +359,7 @@ class EventQueue {
   std::int64_t current_ = 0;   // the bucket whose entries are in the heap
   double horizon_ = 0.0;       // end of the current bucket
   std::int64_t moved_ = 0;     // entries moved into the heap during this turn
-  int changes_ = 0;            // key changes since the last rebuild
+  int changes_ = 0;            // heap filings past the limit since the last rebuild
 };
 
 }  // namespace billiard

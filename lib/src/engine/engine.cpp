@@ -99,15 +99,11 @@ void Simulation::Engine::prepare() {
     link(i, cell_of(grid, d.position));
   }
   initial = state_now();
-  std::vector<double> keys(static_cast<std::size_t>(n));
-  queue.assign(keys);  // slots exist; keys are set by predict_full
-  for (int i = 0; i < n; ++i) predict_full(i);
-  for (int i = 0; i < n; ++i) {
-    keys[i] = std::min(scheduled[i].contact_time, scheduled[i].crossing_time);
-  }
+  for (int i = 0; i < n; ++i) predict_full(i);  // (not scheduled yet: prepared is false)
   std::vector<int> tags(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) tags[i] = event_cell(i);
-  queue.assign(keys, tags);
+  queue.set_keys(ScheduledKeys{scheduled.data()});  // (no disc can be added from now on)
+  queue.assign(n, tags);
   prepared = true;
   setup_hash.cells.clear();  // no more discs can be added: free the setup hash
 }
@@ -481,19 +477,26 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
   std::int64_t crossings_in_a_row = 0;
   double last_time = now;
   while (result.collisions < max_events && !hot.empty()) {
-    const EventQueue::Entry top = queue.top();
-    {
-      // The event after this one is most likely the root's smallest child (unless this event
-      // reschedules a disc earlier): start loading its disc and cells now, so that those cache
-      // misses overlap with the work on this event.
-      const EventQueue::Entry& next = queue.runner_up();
-      __builtin_prefetch(&hot[next.disc]);
-      __builtin_prefetch(&scheduled[next.disc]);
-      prefetch_block(next.tag);
-    }
+    const auto top = queue.top();
     if (top.time > end || top.time == kNever) {
       if (end < kNever) now = end;
       break;
+    }
+    queue.pop();
+    if (const auto* next = queue.upcoming()) {
+      // The event after this one is most likely the heap's next entry (unless this event
+      // reschedules a disc earlier, or that entry was superseded): start loading its disc, its
+      // cells and its partner now, so that those cache misses overlap with the work on this
+      // event. (Its schedule was prefetched when its bucket moved into the heap.)
+      const int k = next->disc;
+      __builtin_prefetch(&hot[k]);
+      prefetch_block(next->tag);
+      const Scheduled& upcoming = scheduled[k];
+      if (upcoming.partner >= 0 && upcoming.contact_time < upcoming.crossing_time) {
+        __builtin_prefetch(&hot[upcoming.partner]);
+        __builtin_prefetch(&cold[upcoming.partner]);
+        __builtin_prefetch(&cold[k]);
+      }
     }
     if (top.time == last_time) {
       if (++same_instant > stuck_limit) {
@@ -655,15 +658,16 @@ std::string Simulation::Engine::check(double tolerance) const {
         }
       }
     }
-    // The queue key is the disc's next event and lies in the future.
+    // The next event lies in the future.
     const Scheduled& s = scheduled[i];
-    const double key = queue.key(i);
-    if (key != std::min(s.contact_time, s.crossing_time) || key < now) {
-      out << "disc " << i << ": queue key " << key << " does not match its next event (now " << now << ")";
+    if (std::min(s.contact_time, s.crossing_time) < now) {
+      out << "disc " << i << ": next event at " << std::min(s.contact_time, s.crossing_time) << " is before now (" << now
+          << ")";
       return out.str();
     }
   }
-  if (!queue.valid()) return "event queue not in heap order";
+  // Heap order, and an entry for every disc's next event.
+  if (!queue.valid()) return "event queue out of order, or a disc's next event missing from it";
   return "";
 }
 

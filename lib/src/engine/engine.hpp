@@ -9,6 +9,7 @@
 #include "billiard/simulation.hpp"
 #include "billiard/wall.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <unordered_map>
@@ -53,6 +54,13 @@ struct Scheduled {
   int crossing;          // 2 * axis + (direction > 0 ? 0 : 1)
 };
 
+// The queue's view of the keys: a disc's key is the earlier of its contact and its crossing.
+struct ScheduledKeys {
+  const Scheduled* scheduled = nullptr;
+  double key(int i) const { return std::min(scheduled[i].contact_time, scheduled[i].crossing_time); }
+  void prefetch(int i) const { __builtin_prefetch(scheduled + i); }
+};
+
 // Spatial hash used while discs are being added (before the grid exists) to refuse overlaps in
 // O(1) per disc.
 struct SetupHash {
@@ -86,7 +94,7 @@ struct Simulation::Engine {
   bool prepared = false;
   double now = 0.0;
   Grid grid;
-  EventQueue queue;
+  CalendarQueue<ScheduledKeys> queue;
   std::vector<int> neighbours;  // scratch: the discs of two 3 x 3 blocks of cells
   Totals totals;
   State initial;
