@@ -19,12 +19,18 @@
 // back to the same time) are harmless: both say "this disc's event is due at this time", and the
 // caller re-keys the disc when it handles the first. So a key change is one append to a bucket's
 // chunk, instead of unlinking from a list and fixing the heap positions of the entries it moves
-// (each a cache miss at large N). When a bucket is moved into the heap, the keys of its entries
-// are prefetched (Keys::prefetch): they are read a few events later. Measured with
-// billiard_bench, figures in lib/src/engine/README-performance.md.
+// (each a cache miss at large N).
+//
+// Hiding memory latency (the bound on speed from N ~ 10^5 on): an append to a bucket is not done
+// at once; its chunk is prefetched and the entry waits in a short pending list until the next
+// top() after the one that follows (or until a bucket is moved into the heap, which appends all
+// pending entries first), so the chunk has arrived by then. When a bucket is moved into the
+// heap, the caller is told (Keys::prefetch) which entries are coming: they are handled a few
+// events later. Measured with billiard_bench, figures in lib/src/engine/README-performance.md.
 //
 // Keys: a small copyable object with `double key(int disc) const` and
-// `void prefetch(int disc) const` (a hint; may do nothing). VectorKeys reads a std::vector.
+// `void prefetch(int disc, int tag) const` (a hint; may do nothing). VectorKeys reads a
+// std::vector.
 #pragma once
 
 #include "billiard/memory.hpp"
@@ -44,7 +50,7 @@ enum class EventKind : int { DiscDisc, DiscWall, CellCrossing };
 struct VectorKeys {
   const std::vector<double>* keys = nullptr;
   double key(int disc) const { return (*keys)[static_cast<std::size_t>(disc)]; }
-  void prefetch(int) const {}
+  void prefetch(int, int) const {}
 };
 
 template <class Keys>
@@ -75,6 +81,9 @@ class CalendarQueue {
   // The current entry with the smallest key (the queue must not be empty). It stays in the queue
   // until pop().
   const Entry& top() {
+    // The appends of the update() calls before the previous top(): their chunks have arrived.
+    append_pending(waiting_);
+    waiting_ = pending_;
     while (true) {
       if (heap_size_ == 0) refill();
       if (heap_size_ == 0) return kNothing;  // (only when no disc was assigned)
@@ -124,6 +133,11 @@ class CalendarQueue {
         }
       }
     }
+    for (int k = 0; k < pending_; ++k) {
+      const Entry& e = pending_entry_[k];
+      if (!(e.time >= horizon_) || (std::max(bucket_of(e.time), current_ + 1) & (buckets_ - 1)) != pending_bucket_[k]) return false;
+      if (!note(e)) return false;
+    }
     for (const Entry& e : overflow_) {
       if (!(e.time >= horizon_) || !note(e)) return false;
     }
@@ -171,7 +185,11 @@ class CalendarQueue {
     // At least the next bucket: rounding must not put a key into the bucket already drained.
     const std::int64_t b = std::max(bucket_of(e.time), current_ + 1);
     if (b < current_ + buckets_) {
-      append(static_cast<int>(b & (buckets_ - 1)), e);
+      const int bucket = static_cast<int>(b & (buckets_ - 1));
+      if (pending_ == kPending) append_pending(pending_);
+      __builtin_prefetch(&chunks_[bucket], 1);
+      pending_bucket_[pending_] = bucket;
+      pending_entry_[pending_++] = e;
     } else {
       overflow_.push_back(e);
     }
@@ -195,6 +213,15 @@ class CalendarQueue {
       chunk->next = spare;
     }
     chunk->entry[chunk->count++] = e;
+  }
+
+  // Appends the first `count` pending entries to their buckets.
+  void append_pending(int count) {
+    for (int k = 0; k < count; ++k) append(pending_bucket_[k], pending_entry_[k]);
+    std::copy(pending_bucket_ + count, pending_bucket_ + pending_, pending_bucket_);
+    std::copy(pending_entry_ + count, pending_entry_ + pending_, pending_entry_);
+    pending_ -= count;
+    waiting_ = std::max(waiting_ - count, 0);
   }
 
   // The heap ran empty: move the next non-empty bucket into it, or re-plan the calendar.
@@ -230,12 +257,13 @@ class CalendarQueue {
         }
         overflow_.resize(kept);
       }
+      append_pending(pending_);  // (some may belong to this bucket)
       // The bucket after this one is the next to be drained: start loading it.
       __builtin_prefetch(&chunks_[(current_ + 1) & (buckets_ - 1)]);
       for (int c = b; c >= 0;) {
         Chunk& chunk = chunks_[c];
         for (int k = 0; k < chunk.count; ++k) {
-          keys_.prefetch(chunk.entry[k].disc);
+          keys_.prefetch(chunk.entry[k].disc, chunk.entry[k].tag);
           heap_push(chunk.entry[k]);
         }
         moved_ += chunk.count;
@@ -250,6 +278,7 @@ class CalendarQueue {
 
   // Every current entry (one or more per disc), the queue emptied.
   std::vector<Entry> collect() {
+    append_pending(pending_);
     std::vector<Entry> entries;
     entries.reserve(static_cast<std::size_t>(size_));
     auto keep = [&](const Entry& e) {
@@ -292,6 +321,7 @@ class CalendarQueue {
     horizon_ = std::isfinite(first) ? origin_ + width_ : std::numeric_limits<double>::infinity();
     moved_ = 0;
     changes_ = 0;
+    pending_ = waiting_ = 0;
     storage_.assign(std::max(entries.size(), std::size_t{64}) + kPad, Entry{0.0, -1, 0});
     heap_size_ = 0;
     chunks_.assign(static_cast<std::size_t>(buckets_), Chunk{});
@@ -352,6 +382,12 @@ class CalendarQueue {
   BigVector<Chunk> chunks_;    // [0, buckets_): each bucket's first chunk; then the pool
   std::vector<int> free_;      // pool chunks not in use
   std::vector<Entry> overflow_;  // entries beyond the calendar's turn
+  // Appends waiting for their chunk to arrive: the first waiting_ were made before the last top().
+  static constexpr int kPending = 16;
+  Entry pending_entry_[kPending];
+  int pending_bucket_[kPending];
+  int pending_ = 0;
+  int waiting_ = 0;
   int buckets_ = 1;
   double origin_ = 0.0;        // bucket b covers [origin_ + b width_, origin_ + (b + 1) width_)
   double width_ = 1.0;

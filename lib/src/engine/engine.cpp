@@ -102,7 +102,7 @@ void Simulation::Engine::prepare() {
   for (int i = 0; i < n; ++i) predict_full(i);  // (not scheduled yet: prepared is false)
   std::vector<int> tags(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) tags[i] = event_cell(i);
-  queue.set_keys(ScheduledKeys{scheduled.data()});  // (no disc can be added from now on)
+  queue.set_keys(ScheduledKeys{this, scheduled.data()});  // (no disc can be added from now on)
   queue.assign(n, tags);
   prepared = true;
   setup_hash.cells.clear();  // no more discs can be added: free the setup hash
@@ -279,6 +279,29 @@ void Simulation::Engine::prefetch_block(int c) const {
     const char* end = std::min(from + row_bytes, reinterpret_cast<const char*>(base + grid.records.size()));
     int lines = 0;
     for (const char* p = from; p < end && lines < 6; p += 64, ++lines) __builtin_prefetch(p);
+  }
+}
+
+// Disc i's event will come up a few events from now (its bucket entered the queue's heap): start
+// loading its schedule, its state and the cell records around `cell` (its event's cell).
+void Simulation::Engine::prefetch_event(int i, int cell) const {
+  __builtin_prefetch(&scheduled[i]);
+  __builtin_prefetch(&hot[i]);
+  prefetch_block(cell);
+}
+
+// The states of the discs in the 3 x 3 block around an interior cell (its records prefetched
+// by prefetch_event a few events ago).
+void Simulation::Engine::prefetch_neighbours(int cell) const {
+  const int cx = cell % grid.nx;
+  const int cy = cell / grid.nx;
+  if (!(cx > 0 && cx < grid.nx - 1 && cy > 0 && cy < grid.ny - 1)) return;
+  for (int dy = -1; dy <= 1; ++dy) {
+    const int row = cell + dy * grid.nx;
+    for (int c = row - 1; c <= row + 1; ++c) {
+      const int* items = cell_discs(grid, c);
+      for (int k = 0, count = cell_disc_count(grid, c); k < count; ++k) __builtin_prefetch(&hot[items[k]]);
+    }
   }
 }
 
@@ -489,8 +512,7 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
       // cells and its partner now, so that those cache misses overlap with the work on this
       // event. (Its schedule was prefetched when its bucket moved into the heap.)
       const int k = next->disc;
-      __builtin_prefetch(&hot[k]);
-      prefetch_block(next->tag);
+      prefetch_neighbours(next->tag);
       const Scheduled& upcoming = scheduled[k];
       if (upcoming.partner >= 0 && upcoming.contact_time < upcoming.crossing_time) {
         __builtin_prefetch(&hot[upcoming.partner]);

@@ -55,10 +55,12 @@ struct Scheduled {
 };
 
 // The queue's view of the keys: a disc's key is the earlier of its contact and its crossing.
+// prefetch(): the queue is about to hand out this disc's event (a few events from now).
 struct ScheduledKeys {
+  const Simulation::Engine* engine = nullptr;
   const Scheduled* scheduled = nullptr;
   double key(int i) const { return std::min(scheduled[i].contact_time, scheduled[i].crossing_time); }
-  void prefetch(int i) const { __builtin_prefetch(scheduled + i); }
+  inline void prefetch(int i, int cell) const;
 };
 
 // Spatial hash used while discs are being added (before the grid exists) to refuse overlaps in
@@ -128,11 +130,15 @@ struct Simulation::Engine {
   int event_cell(int i) const;
   void schedule(int i);
   void prefetch_block(int c) const;
+  void prefetch_event(int i, int cell) const;
+  void prefetch_neighbours(int cell) const;
   void link(int i, int cell);
   void unlink(int i);
   State state_now() const;
   std::string check(double tolerance = 1e-9) const;
   void record(EventKind kind, int i, int other, int wall);
 };
+
+inline void ScheduledKeys::prefetch(int i, int cell) const { engine->prefetch_event(i, cell); }
 
 }  // namespace billiard
