@@ -152,7 +152,11 @@ class CalendarQueue {
  private:
   static constexpr int kArity = 4;
   static constexpr int kPad = 3;  // root at storage_[kPad]: each group of 4 children on one cache line
+#ifdef BQ_PER
+  static constexpr double kPerBucket = BQ_PER;
+#else
   static constexpr double kPerBucket = 3.0;  // current entries per bucket aimed at
+#endif
   static constexpr int kNone = -1;
   static constexpr int kHeapLimit = 1024;  // heap size that calls for narrower buckets
   static constexpr Entry kNothing{std::numeric_limits<double>::infinity(), kNone, 0};
@@ -179,6 +183,7 @@ class CalendarQueue {
   void file(const Entry& e) {
     // (horizon_ is infinite only when every key was at the last rebuild: then all go to the heap)
     if (e.time < horizon_ || horizon_ == std::numeric_limits<double>::infinity()) {
+      keys_.prefetch(e.disc, e.tag);  // (due within this bucket: soon)
       heap_push(e);
       return;
     }

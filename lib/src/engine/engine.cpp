@@ -101,7 +101,7 @@ void Simulation::Engine::prepare() {
   initial = state_now();
   for (int i = 0; i < n; ++i) predict_full(i);  // (not scheduled yet: prepared is false)
   std::vector<int> tags(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) tags[i] = event_cell(i);
+  for (int i = 0; i < n; ++i) tags[i] = event_tag(i);
   queue.set_keys(ScheduledKeys{this, scheduled.data()});  // (no disc can be added from now on)
   queue.assign(n, tags);
   prepared = true;
@@ -245,13 +245,15 @@ void Simulation::Engine::set_crossing(int i) {
   s.crossing = 2 * exit.axis + (exit.direction > 0 ? 0 : 1);
 }
 
-// The cell around which disc i's next event will read and write: the cell it enters for a
-// crossing, its own cell for a contact. Kept as the queue entry's tag, so that the loop can
-// prefetch the cells of the likely next event while it handles the current one.
-int Simulation::Engine::event_cell(int i) const {
+// What disc i's next event will read and write, kept as its queue entry's tag so that the loop
+// can prefetch it a few events ahead: 8 c + k, where k is the crossing's direction (0..3, as
+// Scheduled::crossing) and c the cell it enters, or k = 4 and c the disc's own cell for a contact;
+// -1 (no hint) if the grid has too many cells for that code.
+int Simulation::Engine::event_tag(int i) const {
   const HotDisc& d = hot[i];
   const Scheduled& s = scheduled[i];
-  if (s.crossing_time > s.contact_time) return d.cell;
+  if (grid.nx * static_cast<std::int64_t>(grid.ny) > (std::int64_t{1} << 27)) return -1;
+  if (s.crossing_time > s.contact_time) return 8 * d.cell + 4;
   int cx = d.cx, cy = d.cy;
   switch (s.crossing) {
     case 0: cx = std::min(cx + 1, grid.nx - 1); break;
@@ -259,12 +261,12 @@ int Simulation::Engine::event_cell(int i) const {
     case 2: cy = std::min(cy + 1, grid.ny - 1); break;
     default: cy = std::max(cy - 1, 0); break;
   }
-  return cx + grid.nx * cy;
+  return 8 * (cx + grid.nx * cy) + s.crossing;
 }
 
 void Simulation::Engine::schedule(int i) {
   const Scheduled& s = scheduled[i];
-  queue.update(i, std::min(s.contact_time, s.crossing_time), event_cell(i));
+  queue.update(i, std::min(s.contact_time, s.crossing_time), event_tag(i));
 }
 
 // Prefetches the records of the 3 x 3 block of cells around cell c (clipped to the grid): three
@@ -282,26 +284,61 @@ void Simulation::Engine::prefetch_block(int c) const {
   }
 }
 
-// Disc i's event will come up a few events from now (its bucket entered the queue's heap): start
-// loading its schedule, its state and the cell records around `cell` (its event's cell).
-void Simulation::Engine::prefetch_event(int i, int cell) const {
-  __builtin_prefetch(&scheduled[i]);
-  __builtin_prefetch(&hot[i]);
-  prefetch_block(cell);
+namespace {
+
+// The cells a crossing into cell c in direction k (see event_tag) touches: the cell left, the cell
+// entered and the row of three cells that becomes adjacent (clamped to the grid: hints only).
+struct CrossingCells {
+  int left, entered, row[3];
+};
+CrossingCells crossing_cells(const Grid& grid, int c, int k) {
+  const int step = k == 0 ? 1 : k == 1 ? -1 : k == 2 ? grid.nx : -grid.nx;
+  const int across = k < 2 ? grid.nx : 1;
+  const int last = grid.nx * grid.ny - 1;
+  const int centre = c + step;
+  return {std::clamp(c - step, 0, last), c,
+          {std::clamp(centre - across, 0, last), std::clamp(centre, 0, last), std::clamp(centre + across, 0, last)}};
 }
 
-// The states of the discs in the 3 x 3 block around an interior cell (its records prefetched
-// by prefetch_event a few events ago).
-void Simulation::Engine::prefetch_neighbours(int cell) const {
-  const int cx = cell % grid.nx;
-  const int cy = cell / grid.nx;
-  if (!(cx > 0 && cx < grid.nx - 1 && cy > 0 && cy < grid.ny - 1)) return;
+}  // namespace
+
+// Disc i's event will come up a few events from now (its bucket entered the queue's heap): start
+// loading its schedule, its state and the cell records its event will use (`tag`, see event_tag):
+// the 3 x 3 block for a contact, five records for a crossing.
+void Simulation::Engine::prefetch_event(int i, int tag) const {
+  __builtin_prefetch(&scheduled[i]);
+  __builtin_prefetch(&hot[i]);
+  if (tag < 0) return;
+  const int c = tag >> 3, k = tag & 7;
+  if (k == 4) {
+    prefetch_block(c);
+    return;
+  }
+  const CrossingCells cells = crossing_cells(grid, c, k);
+  for (int cell : {cells.left, cells.entered, cells.row[0], cells.row[1], cells.row[2]}) {
+    __builtin_prefetch(&grid.records[static_cast<std::size_t>(cell) * grid.stride]);
+  }
+}
+
+// The states of the discs the event `tag` will test (their cell records prefetched by
+// prefetch_event a few events ago): the 3 x 3 block around the cell of a contact, the new row of
+// a crossing.
+void Simulation::Engine::prefetch_neighbours(int tag) const {
+  if (tag < 0) return;
+  const int c = tag >> 3, k = tag & 7;
+  auto fetch = [&](int cell) {
+    const int* items = cell_discs(grid, cell);
+    for (int m = 0, count = cell_disc_count(grid, cell); m < count; ++m) __builtin_prefetch(&hot[items[m]]);
+  };
+  if (k != 4) {
+    const CrossingCells cells = crossing_cells(grid, c, k);
+    for (int cell : cells.row) fetch(cell);
+    return;
+  }
+  const int last = grid.nx * grid.ny - 1;
   for (int dy = -1; dy <= 1; ++dy) {
-    const int row = cell + dy * grid.nx;
-    for (int c = row - 1; c <= row + 1; ++c) {
-      const int* items = cell_discs(grid, c);
-      for (int k = 0, count = cell_disc_count(grid, c); k < count; ++k) __builtin_prefetch(&hot[items[k]]);
-    }
+    const int row = c + dy * grid.nx;
+    for (int cell = row - 1; cell <= row + 1; ++cell) fetch(std::clamp(cell, 0, last));
   }
 }
 
@@ -514,10 +551,12 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
       const int k = next->disc;
       prefetch_neighbours(next->tag);
       const Scheduled& upcoming = scheduled[k];
-      if (upcoming.partner >= 0 && upcoming.contact_time < upcoming.crossing_time) {
-        __builtin_prefetch(&hot[upcoming.partner]);
-        __builtin_prefetch(&cold[upcoming.partner]);
-        __builtin_prefetch(&cold[k]);
+      if (upcoming.partner >= 0) {
+        __builtin_prefetch(&hot[upcoming.partner]);  // (a crossing also reads its counter)
+        if (upcoming.contact_time < upcoming.crossing_time) {
+          __builtin_prefetch(&cold[upcoming.partner]);
+          __builtin_prefetch(&cold[k]);
+        }
       }
     }
     if (top.time == last_time) {

@@ -60,7 +60,7 @@ struct ScheduledKeys {
   const Simulation::Engine* engine = nullptr;
   const Scheduled* scheduled = nullptr;
   double key(int i) const { return std::min(scheduled[i].contact_time, scheduled[i].crossing_time); }
-  inline void prefetch(int i, int cell) const;
+  inline void prefetch(int i, int tag) const;
 };
 
 // Spatial hash used while discs are being added (before the grid exists) to refuse overlaps in
@@ -127,11 +127,11 @@ struct Simulation::Engine {
   void scan_cell(int i, int cx, int cy, const Vec2& r, const Vec2& v, Scheduled& s) const;
   void scan_walls(int cell, const Vec2& r, const Vec2& v, double radius, Scheduled& s) const;
   void set_crossing(int i);
-  int event_cell(int i) const;
+  int event_tag(int i) const;
   void schedule(int i);
   void prefetch_block(int c) const;
-  void prefetch_event(int i, int cell) const;
-  void prefetch_neighbours(int cell) const;
+  void prefetch_event(int i, int tag) const;
+  void prefetch_neighbours(int tag) const;
   void link(int i, int cell);
   void unlink(int i);
   State state_now() const;
@@ -139,6 +139,6 @@ struct Simulation::Engine {
   void record(EventKind kind, int i, int other, int wall);
 };
 
-inline void ScheduledKeys::prefetch(int i, int cell) const { engine->prefetch_event(i, cell); }
+inline void ScheduledKeys::prefetch(int i, int tag) const { engine->prefetch_event(i, tag); }
 
 }  // namespace billiard
