@@ -1,13 +1,17 @@
 // Stage 4: cells. The run with cells must give the same first events as the run without them
 // (one cell holding everything, i.e. all pairs), until rounding differences grow, and the same
 // statistics afterwards. Also: three discs touching at once.
+#include "billiard/sectors.hpp"
 #include "billiard/simulation.hpp"
 #include "helpers.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <set>
+#include <vector>
 
 using billiard::Vec2;
 using engine_test::make_disc;
@@ -135,4 +139,47 @@ TEST(Sectors, LowAndHighDensityRunsStayValid) {
       ASSERT_EQ(sim.validate(), "") << "area fraction " << fraction;
     }
   }
+}
+
+// The cell records: up to three discs inline, more in a spill block, the block returned when the
+// cell is back to three, every cell's capacity doubled when one is full. Random insertions and
+// removals against a plain set per cell; the walls' flag must survive them.
+TEST(Sectors, CellRecordsKeepEveryDiscThroughSpillsAndGrowth) {
+  billiard::Grid grid = billiard::make_grid(Vec2(0, 0), Vec2(4, 4), 1.0, false);
+  ASSERT_EQ(grid.nx * grid.ny, 16);
+  billiard::set_capacity(grid, 5);
+  // One wall along the bottom edge: listed in the bottom row of cells only.
+  billiard::Wall bottom;
+  bottom.kind = billiard::WallKind::Segment;
+  bottom.a = Vec2(0, 0);
+  bottom.b = Vec2(4, 0);
+  billiard::assign_walls(grid, {bottom}, 0.5);
+  std::vector<std::multiset<int>> expected(16);
+  std::mt19937_64 rng(3);
+  int next_disc = 0;
+  for (int step = 0; step < 20000; ++step) {
+    const int c = static_cast<int>(rng() % 16);
+    // Mostly around 2-5 discs per cell (inline and spilled), sometimes up to 12 (growth).
+    const bool grow = expected[c].size() < (step % 1000 < 50 ? 12u : 4u);
+    if (expected[c].empty() || (grow && rng() % 2 == 0)) {
+      billiard::insert_disc(grid, c, next_disc);
+      expected[c].insert(next_disc++);
+    } else {
+      auto it = expected[c].begin();
+      std::advance(it, static_cast<long>(rng() % expected[c].size()));
+      billiard::remove_disc(grid, c, *it);
+      expected[c].erase(it);
+    }
+    for (int cell : {c, static_cast<int>(rng() % 16)}) {
+      const int count = billiard::cell_disc_count(grid, cell);
+      ASSERT_EQ(count, static_cast<int>(expected[cell].size())) << "cell " << cell << " at step " << step;
+      const int* items = billiard::cell_discs(grid, cell);
+      ASSERT_EQ(std::multiset<int>(items, items + count), expected[cell]) << "cell " << cell << " at step " << step;
+      ASSERT_EQ(billiard::cell_has_walls(grid, cell), cell < 4) << "cell " << cell;
+      ASSERT_LE(count, grid.capacity);
+    }
+  }
+  EXPECT_GT(grid.capacity, 5) << "a cell held more than 5 discs: the capacity should have grown";
+  EXPECT_EQ(billiard::cell_walls_end(grid, 0) - billiard::cell_walls_begin(grid, 0), 1);
+  EXPECT_EQ(billiard::cell_walls_end(grid, 5) - billiard::cell_walls_begin(grid, 5), 0);
 }

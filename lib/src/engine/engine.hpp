@@ -132,7 +132,7 @@ struct Simulation::Engine {
   void prefetch_block(int c) const;
   void prefetch_event(int i, int tag) const;
   void prefetch_neighbours(int tag) const;
-  void link(int i, int cell);
+  void link(int i, int cx, int cy);
   void unlink(int i);
   State state_now() const;
   std::string check(double tolerance = 1e-9) const;

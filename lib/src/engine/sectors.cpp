@@ -21,9 +21,10 @@ Grid make_grid(const Vec2& lower, const Vec2& extent, double min_cell, bool peri
   grid.nx = count(extent.x());
   grid.ny = count(extent.y());
   grid.cell = Vec2(extent.x() / grid.nx, extent.y() / grid.ny);
-  grid.capacity = 1;
-  grid.stride = 4;
-  grid.records.assign(static_cast<std::size_t>(grid.nx) * grid.ny * grid.stride, 0);
+  grid.capacity = kInline + 1;
+  grid.records.assign(static_cast<std::size_t>(grid.nx) * grid.ny * 4, kNoDisc);
+  for (std::size_t c = 0; c < grid.records.size(); c += 4) grid.records[c] = 0;
+  grid.wall_ranges.assign(2 * static_cast<std::size_t>(grid.nx) * grid.ny, 0);
   return grid;
 }
 
@@ -36,41 +37,71 @@ int capacity_for(const Grid& grid, double min_radius) {
 }
 
 void set_capacity(Grid& grid, int capacity) {
-  const int old_stride = grid.stride;
-  const std::size_t cells = grid.records.size() / old_stride;
-  const int stride = capacity + 3;
-  BigVector<int> records(cells * stride, kNoDisc);
+  capacity = std::max(capacity, kInline + 1);
+  if (capacity == grid.capacity) return;
+  // Move every spilled cell's discs to a block of the new size.
+  BigVector<int> spill;
+  const std::size_t cells = grid.records.size() / 4;
   for (std::size_t c = 0; c < cells; ++c) {
-    const int* from = &grid.records[c * old_stride];
-    int* to = &records[c * stride];
-    const int count = std::min(from[0], capacity);
-    to[0] = count;
-    to[1] = from[1];
-    to[2] = from[2];
-    for (int k = 0; k < count; ++k) to[3 + k] = from[3 + k];
+    int* record = &grid.records[c * 4];
+    const int count = record[0] & (kHasWalls - 1);
+    if (count <= kInline) continue;
+    const std::size_t offset = spill.size();
+    spill.resize(offset + capacity, kNoDisc);
+    std::copy_n(&grid.spill[static_cast<std::size_t>(record[1])], count, &spill[offset]);
+    record[1] = static_cast<int>(offset);
   }
-  grid.records.swap(records);
+  grid.spill.swap(spill);
+  grid.spill_free.clear();
   grid.capacity = capacity;
-  grid.stride = stride;
 }
 
 void insert_disc(Grid& grid, int c, int i) {
   if (cell_disc_count(grid, c) == grid.capacity) set_capacity(grid, 2 * grid.capacity);
-  int* record = &grid.records[static_cast<std::size_t>(c) * grid.stride];
-  record[3 + record[0]++] = i;
+  int* record = &grid.records[static_cast<std::size_t>(c) * 4];
+  const int count = record[0] & (kHasWalls - 1);
+  if (count < kInline) {
+    record[1 + count] = i;
+  } else if (count == kInline) {
+    // The fourth disc: move the cell's discs to a spill block.
+    int offset;
+    if (!grid.spill_free.empty()) {
+      offset = grid.spill_free.back();
+      grid.spill_free.pop_back();
+    } else {
+      offset = static_cast<int>(grid.spill.size());
+      grid.spill.resize(grid.spill.size() + grid.capacity, kNoDisc);
+    }
+    int* block = &grid.spill[static_cast<std::size_t>(offset)];
+    std::copy_n(record + 1, kInline, block);
+    block[kInline] = i;
+    record[1] = offset;
+    record[2] = record[3] = kNoDisc;
+  } else {
+    grid.spill[static_cast<std::size_t>(record[1]) + count] = i;
+  }
+  ++record[0];
 }
 
 void remove_disc(Grid& grid, int c, int i) {
-  int* record = &grid.records[static_cast<std::size_t>(c) * grid.stride];
-  int* first = record + 3;
-  const int last = --record[0];
+  int* record = &grid.records[static_cast<std::size_t>(c) * 4];
+  const int count = record[0] & (kHasWalls - 1);
+  int* items = count <= kInline ? record + 1 : &grid.spill[static_cast<std::size_t>(record[1])];
+  const int last = count - 1;
   for (int k = 0; k < last; ++k) {
-    if (first[k] == i) {
-      first[k] = first[last];
+    if (items[k] == i) {
+      items[k] = items[last];
       break;
     }
   }
-  first[last] = kNoDisc;
+  items[last] = kNoDisc;
+  --record[0];
+  if (count == kInline + 1) {
+    // Back to kInline discs: into the record again, the block freed.
+    const int offset = record[1];
+    std::copy_n(items, kInline, record + 1);
+    grid.spill_free.push_back(offset);
+  }
 }
 
 int cell_of(const Grid& grid, const Vec2& p) {
@@ -135,10 +166,11 @@ void assign_walls(Grid& grid, const std::vector<Wall>& walls, double reach) {
   }
   grid.wall_items.clear();
   for (int c = 0; c < cells; ++c) {
-    int* record = &grid.records[static_cast<std::size_t>(c) * grid.stride];
-    record[1] = static_cast<int>(grid.wall_items.size());
+    grid.wall_ranges[2 * static_cast<std::size_t>(c)] = static_cast<int>(grid.wall_items.size());
     grid.wall_items.insert(grid.wall_items.end(), lists[c].begin(), lists[c].end());
-    record[2] = static_cast<int>(grid.wall_items.size());
+    grid.wall_ranges[2 * static_cast<std::size_t>(c) + 1] = static_cast<int>(grid.wall_items.size());
+    int& head = grid.records[static_cast<std::size_t>(c) * 4];
+    head = lists[c].empty() ? (head & ~kHasWalls) : (head | kHasWalls);
   }
 }
 

@@ -495,7 +495,8 @@ double Simulation::memory_bytes() const {
   const Engine& e = *engine_;
   return static_cast<double>(e.hot.capacity() * sizeof(HotDisc) + e.cold.capacity() * sizeof(ColdDisc) +
                              e.scheduled.capacity() * sizeof(Scheduled) + e.queue.memory_bytes() +
-                             e.grid.records.capacity() * sizeof(int) +
+                             e.grid.records.capacity() * sizeof(int) + e.grid.spill.capacity() * sizeof(int) +
+                             e.grid.spill_free.capacity() * sizeof(int) + e.grid.wall_ranges.capacity() * sizeof(int) +
                              e.grid.wall_items.capacity() * sizeof(int) + e.log.capacity() * sizeof(EventRecord));
 }
 
