@@ -39,14 +39,12 @@ void Simulation::Engine::advance_disc(HotDisc& d, double t) const {
 }
 
 void Simulation::Engine::link(int i, int cx, int cy) {
-  const int cell = cx + grid.nx * cy;
-  hot[i].cell = cell;
-  hot[i].cx = cx;
-  hot[i].cy = cy;
-  insert_disc(grid, cell, i);
+  hot[i].cx = static_cast<std::uint16_t>(cx);
+  hot[i].cy = static_cast<std::uint16_t>(cy);
+  insert_disc(grid, cx + grid.nx * cy, i);
 }
 
-void Simulation::Engine::unlink(int i) { remove_disc(grid, hot[i].cell, i); }
+void Simulation::Engine::unlink(int i) { remove_disc(grid, cell_of_disc(hot[i]), i); }
 
 void Simulation::Engine::prepare() {
   if (!has_table && !periodic && outlines.empty()) {
@@ -256,7 +254,7 @@ int Simulation::Engine::event_tag(int i) const {
   const HotDisc& d = hot[i];
   const Scheduled& s = scheduled[i];
   if (grid.nx * static_cast<std::int64_t>(grid.ny) > (std::int64_t{1} << 27)) return -1;
-  if (s.crossing_time > s.contact_time) return 8 * d.cell + 4;
+  if (s.crossing_time > s.contact_time) return 8 * cell_of_disc(d) + 4;
   int cx = d.cx, cy = d.cy;
   switch (s.crossing) {
     case 0: cx = std::min(cx + 1, grid.nx - 1); break;
@@ -352,7 +350,7 @@ int Simulation::Engine::gather(int i, int* list) const {
   if (!(d.cx > 0 && d.cx < grid.nx - 1 && d.cy > 0 && d.cy < grid.ny - 1)) return -1;
   int m = 0;
   for (int dy = -1; dy <= 1; ++dy) {
-    const int row = d.cell + dy * grid.nx;
+    const int row = cell_of_disc(d) + dy * grid.nx;
     for (int c = row - 1; c <= row + 1; ++c) {
       const int* items = cell_discs(grid, c);
       for (int k = 0, count = cell_disc_count(grid, c); k < count; ++k) list[m++] = items[k];
@@ -369,7 +367,7 @@ int* Simulation::Engine::scratch(int which) {
 }
 
 void Simulation::Engine::predict_full(int i) {
-  prefetch_block(hot[i].cell);
+  prefetch_block(cell_of_disc(hot[i]));
   int* list = scratch(0);
   predict_gathered(i, list, gather(i, list));
 }
@@ -406,7 +404,7 @@ void Simulation::Engine::predict_gathered(int i, const int* list, int m) {
       for (int dx = -1; dx <= 1; ++dx) scan_cell(i, d.cx + dx, d.cy + dy, r, v, s);
     }
   }
-  scan_walls(d.cell, r, v, d.radius, s);
+  scan_walls(cell_of_disc(d), r, v, d.radius, s);
   set_crossing(i);
   if (prepared) schedule(i);
 }
@@ -446,7 +444,7 @@ void Simulation::Engine::cross(int i) {
       scan_cell(i, cx + k, cy + direction, r, v, s);
     }
   }
-  scan_walls(d.cell, r, v, d.radius, s);
+  scan_walls(cell_of_disc(d), r, v, d.radius, s);
   set_crossing(i);
   schedule(i);
 }
@@ -462,12 +460,12 @@ void Simulation::Engine::collide_pair(int i, int j) {
     dr.x() -= period.x() * std::round(dr.x() / period.x());
     dr.y() -= period.y() * std::round(dr.y() / period.y());
   }
-  ColdDisc& ca = cold[i];
-  ColdDisc& cb = cold[j];
   Vec2 q;
   if (smooth_elastic) {
-    q = collide_smooth_elastic(dr, a.velocity, ca.inverse_mass, b.velocity, cb.inverse_mass);
+    q = collide_smooth_elastic(dr, a.velocity, a.inverse_mass, b.velocity, b.inverse_mass);
   } else {
+    ColdDisc& ca = cold[i];
+    ColdDisc& cb = cold[j];
     const Vec2 sigma = dr.normalized();
     ContactBody bi{a.velocity, ca.spin, ca.inverse_mass, ca.inverse_inertia, a.radius};
     ContactBody bj{b.velocity, cb.spin, cb.inverse_mass, cb.inverse_inertia, b.radius};
@@ -554,7 +552,7 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
       const Scheduled& upcoming = scheduled[k];
       if (upcoming.partner >= 0) {
         __builtin_prefetch(&hot[upcoming.partner]);  // (a crossing also reads its counter)
-        if (upcoming.contact_time < upcoming.crossing_time) {
+        if (!smooth_elastic && upcoming.contact_time < upcoming.crossing_time) {
           __builtin_prefetch(&cold[upcoming.partner]);
           __builtin_prefetch(&cold[k]);
         }
@@ -592,7 +590,7 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
         predict_full(i);
         continue;
       }
-      prefetch_block(hot[j].cell);  // for predict_pair, while the collision is computed
+      prefetch_block(cell_of_disc(hot[j]));  // for predict_pair, while the collision is computed
       collide_pair(i, j);
       if (logging) record(EventKind::DiscDisc, i, j, kNoWall);
       predict_pair(i, j);
@@ -651,6 +649,7 @@ std::string Simulation::Engine::check(double tolerance) const {
   out.precision(17);
   for (int i = 0; i < n; ++i) {
     const HotDisc& d = hot[i];
+    const int cell_i = cell_of_disc(d);
     const double slack = tolerance * d.radius;
     // Inside the container and off every wall.
     if (has_table && r[i].norm() > table_radius - d.radius + slack) {
@@ -680,21 +679,21 @@ std::string Simulation::Engine::check(double tolerance) const {
         if (!check_wall(w)) return out.str();
       }
     } else {
-      for (int k = cell_walls_begin(grid, d.cell); k < cell_walls_end(grid, d.cell); ++k) {
+      for (int k = cell_walls_begin(grid, cell_i); k < cell_walls_end(grid, cell_i); ++k) {
         if (!check_wall(grid.wall_items[k])) return out.str();
       }
     }
     // In its cell (up to rounding).
     Vec2 lo, hi;
-    cell_bounds(grid, d.cell, lo, hi);
+    cell_bounds(grid, cell_i, lo, hi);
     const double cell_slack = 1e-9 * grid.cell.maxCoeff();
     if ((r[i].array() < lo.array() - cell_slack).any() || (r[i].array() > hi.array() + cell_slack).any()) {
-      out << "disc " << i << " at (" << r[i].x() << ", " << r[i].y() << ") is not in its cell " << d.cell;
+      out << "disc " << i << " at (" << r[i].x() << ", " << r[i].y() << ") is not in its cell " << cell_i;
       return out.str();
     }
     // No overlap with the discs of the neighbouring cells.
-    const int cx = d.cell % grid.nx;
-    const int cy = d.cell / grid.nx;
+    const int cx = cell_i % grid.nx;
+    const int cy = cell_i / grid.nx;
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dx = -1; dx <= 1; ++dx) {
         int x = cx + dx, y = cy + dy;

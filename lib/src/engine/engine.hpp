@@ -19,18 +19,20 @@ namespace billiard {
 
 inline constexpr int kNoPartner = -2;  // Scheduled::partner when no contact is predicted
 
-// The hot state of one disc: everything the event loop reads for a pair test or a crossing.
-// 64 bytes, one cache line (checked by a static_assert in engine.cpp). The radius lives here
-// because every pair test needs it; mass, inertia and spin are only needed at collisions.
+// The hot state of one disc: everything the event loop reads for a pair test, a crossing or a
+// smooth elastic collision. 64 bytes, one cache line (checked by a static_assert in engine.cpp).
+// The radius lives here because every pair test needs it, the inverse mass because every smooth
+// collision does (a copy of ColdDisc's: then a collision of smooth discs reads no cold state,
+// two cache misses fewer at large N); inertia and spin are only needed by rough discs.
 struct HotDisc {
-  Vec2 position;    // 16: centre at `time` (lazy: not advanced until an event touches the disc)
-  Vec2 velocity;    // 16: velocity at `time`
-  double time;      //  8: time of the last update
-  double radius;    //  8
-  int counter;      //  4: collisions so far; events remember it to detect staleness
-  int cell;         //  4: cell holding the centre, cx + nx cy
-  int cx;           //  4: its column and row, kept to avoid integer divisions (about 30
-  int cy;           //  4: cycles each) in every prediction
+  Vec2 position;          // 16: centre at `time` (lazy: not advanced until an event touches the disc)
+  Vec2 velocity;          // 16: velocity at `time`
+  double time;            //  8: time of the last update
+  double radius;          //  8
+  double inverse_mass;    //  8
+  int counter;            //  4: collisions so far; events remember it to detect staleness
+  std::uint16_t cx;       //  2: column and row of the cell holding the centre (its index is
+  std::uint16_t cy;       //  2: cx + nx cy; grids have at most 65535 cells per side)
 };
 
 // Cold state: 40 bytes, touched only at collisions and by the state accessors.
@@ -86,7 +88,7 @@ struct Simulation::Engine {
 
   // ---- discs ----
   BigVector<HotDisc> hot;         // huge pages when large: see billiard/memory.hpp
-  std::vector<ColdDisc> cold;
+  BigVector<ColdDisc> cold;
   BigVector<Scheduled> scheduled;
   double max_radius = 0.0;
   double min_radius = kNever;
@@ -133,6 +135,7 @@ struct Simulation::Engine {
   void prefetch_event(int i, int tag) const;
   void prefetch_neighbours(int tag) const;
   void link(int i, int cx, int cy);
+  int cell_of_disc(const HotDisc& d) const { return d.cx + grid.nx * d.cy; }
   void unlink(int i);
   State state_now() const;
   std::string check(double tolerance = 1e-9) const;

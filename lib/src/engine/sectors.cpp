@@ -15,7 +15,7 @@ Grid make_grid(const Vec2& lower, const Vec2& extent, double min_cell, bool peri
     // As many cells as fit with side >= min_cell, capped so that a tiny min_cell cannot ask for
     // billions of cells (the cap keeps memory linear; cells are then just larger than needed).
     double n = std::floor(length / min_cell);
-    n = std::clamp(n, 1.0, 1.0e5);
+    n = std::clamp(n, 1.0, 65535.0);  // (HotDisc keeps a cell's column and row in 16 bits)
     return static_cast<int>(n);
   };
   grid.nx = count(extent.x());

@@ -133,8 +133,8 @@ void Simulation::Engine::add_checked_disc(const Disc& disc) {
   d.velocity = disc.velocity;
   d.time = 0.0;
   d.radius = disc.radius;
+  d.inverse_mass = 1.0 / disc.mass;
   d.counter = 0;
-  d.cell = 0;
   d.cx = d.cy = 0;
   hot.push_back(d);
   ColdDisc c;
