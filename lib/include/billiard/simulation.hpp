@@ -144,8 +144,8 @@ class Simulation {
 
   // ---- Checks ----
   // Returns "" if every disc is inside its container, no two discs overlap by more than
-  // `tolerance` times the smaller radius, every disc lies in its cell and the queue is in heap
-  // order; otherwise a description of the first problem found.
+  // `tolerance` times the smaller radius, every disc lies in its cell and the queue is in order
+  // and holds every disc's next event; otherwise a description of the first problem found.
   std::string validate(double tolerance = 1e-9);
   // Runs validate() after every event and stops advance() at the first problem (slow; tests).
   void set_validate_every_event(bool on);
