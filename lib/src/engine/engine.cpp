@@ -467,8 +467,8 @@ void Simulation::Engine::collide_pair(int i, int j) {
     ColdDisc& ca = cold[i];
     ColdDisc& cb = cold[j];
     const Vec2 sigma = dr.normalized();
-    ContactBody bi{a.velocity, ca.spin, ca.inverse_mass, ca.inverse_inertia, a.radius};
-    ContactBody bj{b.velocity, cb.spin, cb.inverse_mass, cb.inverse_inertia, b.radius};
+    ContactBody bi{a.velocity, ca.spin, a.inverse_mass, ca.inverse_inertia, a.radius};
+    ContactBody bj{b.velocity, cb.spin, b.inverse_mass, cb.inverse_inertia, b.radius};
     q = collide(sigma, bi, bj, restitution);
     a.velocity = bi.velocity;
     b.velocity = bj.velocity;
@@ -492,10 +492,10 @@ void Simulation::Engine::collide_wall(int i, int w) {
     // Mirror reflection v' = v - 2 (v.n) n / (n.n), unnormalised n as in collide_smooth_elastic.
     const double vn = d.velocity.dot(normal);
     q = vn > 0 ? Vec2((-2 * vn * c.mass / normal.squaredNorm()) * normal) : Vec2::Zero();
-    d.velocity += c.inverse_mass * q;
+    d.velocity += d.inverse_mass * q;
   } else {
     const Vec2 sigma = normal.normalized();
-    ContactBody body{d.velocity, c.spin, c.inverse_mass, c.inverse_inertia, d.radius};
+    ContactBody body{d.velocity, c.spin, d.inverse_mass, c.inverse_inertia, d.radius};
     ContactBody fixed{Vec2::Zero(), 0.0, 0.0, 0.0, 0.0};
     q = collide(sigma, body, fixed, restitution);
     d.velocity = body.velocity;
@@ -692,8 +692,8 @@ std::string Simulation::Engine::check(double tolerance) const {
       return out.str();
     }
     // No overlap with the discs of the neighbouring cells.
-    const int cx = cell_i % grid.nx;
-    const int cy = cell_i / grid.nx;
+    const int cx = d.cx;
+    const int cy = d.cy;
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dx = -1; dx <= 1; ++dx) {
         int x = cx + dx, y = cy + dy;

@@ -21,9 +21,9 @@ inline constexpr int kNoPartner = -2;  // Scheduled::partner when no contact is 
 
 // The hot state of one disc: everything the event loop reads for a pair test, a crossing or a
 // smooth elastic collision. 64 bytes, one cache line (checked by a static_assert in engine.cpp).
-// The radius lives here because every pair test needs it, the inverse mass because every smooth
-// collision does (a copy of ColdDisc's: then a collision of smooth discs reads no cold state,
-// two cache misses fewer at large N); inertia and spin are only needed by rough discs.
+// The radius lives here because every pair test needs it, the inverse mass because every
+// collision does (then a collision of smooth discs reads no cold state, two cache misses fewer
+// at large N); inertia and spin are only needed by rough discs.
 struct HotDisc {
   Vec2 position;          // 16: centre at `time` (lazy: not advanced until an event touches the disc)
   Vec2 velocity;          // 16: velocity at `time`
@@ -35,10 +35,9 @@ struct HotDisc {
   std::uint16_t cy;       //  2: cx + nx cy; grids have at most 65535 cells per side)
 };
 
-// Cold state: 40 bytes, touched only at collisions and by the state accessors.
+// Cold state: 32 bytes, touched only at wall and rough collisions and by the state accessors.
 struct ColdDisc {
   double mass;
-  double inverse_mass;
   double inertia;
   double inverse_inertia;
   double spin;

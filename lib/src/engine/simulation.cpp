@@ -139,7 +139,6 @@ void Simulation::Engine::add_checked_disc(const Disc& disc) {
   hot.push_back(d);
   ColdDisc c;
   c.mass = disc.mass;
-  c.inverse_mass = 1.0 / disc.mass;
   c.inertia = disc.inertia ? *disc.inertia : 0.5 * disc.mass * disc.radius * disc.radius;
   c.inverse_inertia = 1.0 / c.inertia;
   c.spin = disc.spin;
