@@ -227,18 +227,19 @@ void Simulation::Engine::set_crossing(int i) {
   }
   Scheduled& s = scheduled[i];
   if (!has_gravity) {
-    // Straight line: the face ahead on each axis, t = distance / speed (a disc a hair outside
-    // its cell by rounding gets t < 0: leave now).
+    // Straight line. On each axis the time to the face ahead is the larger of the times to the
+    // two faces (the face behind is reached at a negative time, or at -infinity when at rest):
+    // no branch on the sign of the velocity, which is random and so mispredicted half the time.
+    // A disc a hair outside its cell by rounding gets t < 0: leave now. (0/0, at rest exactly
+    // on a face: never.)
     const double vx = d.velocity.x(), vy = d.velocity.y();
-    const double tx = vx > 0 ? (hi.x() - d.position.x()) / vx : vx < 0 ? (lo.x() - d.position.x()) / vx : kNever;
-    const double ty = vy > 0 ? (hi.y() - d.position.y()) / vy : vy < 0 ? (lo.y() - d.position.y()) / vy : kNever;
-    if (tx <= ty) {
-      s.crossing_time = d.time + std::max(tx, 0.0);
-      s.crossing = vx > 0 ? 0 : 1;
-    } else {
-      s.crossing_time = d.time + std::max(ty, 0.0);
-      s.crossing = vy > 0 ? 2 : 3;
-    }
+    double tx = std::max((hi.x() - d.position.x()) / vx, (lo.x() - d.position.x()) / vx);
+    double ty = std::max((hi.y() - d.position.y()) / vy, (lo.y() - d.position.y()) / vy);
+    if (!(tx >= 0)) tx = std::isnan(tx) ? kNever : 0.0;
+    if (!(ty >= 0)) ty = std::isnan(ty) ? kNever : 0.0;
+    const int back_x = !(vx > 0), back_y = !(vy > 0), y_first = !(tx <= ty);
+    s.crossing_time = d.time + std::min(tx, ty);
+    s.crossing = back_x + y_first * (2 + back_y - back_x);
     return;
   }
   const CellExit exit = cell_exit_time(d.position, d.velocity, gravity, lo, hi);
@@ -255,14 +256,11 @@ int Simulation::Engine::event_tag(int i) const {
   const Scheduled& s = scheduled[i];
   if (grid.nx * static_cast<std::int64_t>(grid.ny) > (std::int64_t{1} << 27)) return -1;
   if (s.crossing_time > s.contact_time) return 8 * cell_of_disc(d) + 4;
-  int cx = d.cx, cy = d.cy;
-  switch (s.crossing) {
-    case 0: cx = std::min(cx + 1, grid.nx - 1); break;
-    case 1: cx = std::max(cx - 1, 0); break;
-    case 2: cy = std::min(cy + 1, grid.ny - 1); break;
-    default: cy = std::max(cy - 1, 0); break;
-  }
-  return 8 * (cx + grid.nx * cy) + s.crossing;
+  // (arithmetic on the direction k instead of a switch: k is random, a branch on it mispredicts)
+  const int k = s.crossing;
+  const int cx = std::clamp(d.cx + (k == 0) - (k == 1), 0, grid.nx - 1);
+  const int cy = std::clamp(d.cy + (k == 2) - (k == 3), 0, grid.ny - 1);
+  return 8 * (cx + grid.nx * cy) + k;
 }
 
 void Simulation::Engine::schedule(int i) {
@@ -291,11 +289,12 @@ struct CrossingCells {
   int left, entered, row[3];
 };
 CrossingCells crossing_cells(const Grid& grid, int c, int k) {
-  const int step = k == 0 ? 1 : k == 1 ? -1 : k == 2 ? grid.nx : -grid.nx;
-  const int across = k < 2 ? grid.nx : 1;
+  const int step[4] = {1, -1, grid.nx, -grid.nx};
+  const int across_of[4] = {grid.nx, grid.nx, 1, 1};
+  const int across = across_of[k];
   const int last = grid.nx * grid.ny - 1;
-  const int centre = c + step;
-  return {std::clamp(c - step, 0, last), c,
+  const int centre = c + step[k];
+  return {std::clamp(c - step[k], 0, last), c,
           {std::clamp(centre - across, 0, last), std::clamp(centre, 0, last), std::clamp(centre + across, 0, last)}};
 }
 
@@ -341,6 +340,27 @@ void Simulation::Engine::prefetch_neighbours(int tag) const {
   }
 }
 
+// Appends the discs of cell c to list[m...] and returns the new length. A cell of at most kInline
+// discs (nearly all) has its three slots copied whatever its count, and the length advanced by
+// the count: a loop over the count (0 to 3, at random) mispredicted its exit most of the time
+// (cachegrind: the largest source of mispredicted branches at low density). `list` has room
+// for kInline entries beyond the discs it can receive (see scratch()).
+namespace {
+int append_cell(const Grid& grid, int c, int* list, int m) {
+  const int* record = &grid.records[static_cast<std::size_t>(c) * 4];
+  const int count = record[0] & (kHasWalls - 1);
+  if (count <= kInline) {
+    list[m] = record[1];
+    list[m + 1] = record[2];
+    list[m + 2] = record[3];
+    return m + count;
+  }
+  const int* items = &grid.spill[static_cast<std::size_t>(record[1])];
+  for (int k = 0; k < count; ++k) list[m + k] = items[k];
+  return m + count;
+}
+}  // namespace
+
 // Discs of the 3 x 3 block around disc i's cell, written to `list`, when that cell is an
 // interior cell (almost all: no wrapping or bounds checks needed); -1 otherwise. Their states
 // are prefetched, so that the cache misses (the bottleneck from N ~ 10^5 on, when the discs no
@@ -351,17 +371,14 @@ int Simulation::Engine::gather(int i, int* list) const {
   int m = 0;
   for (int dy = -1; dy <= 1; ++dy) {
     const int row = cell_of_disc(d) + dy * grid.nx;
-    for (int c = row - 1; c <= row + 1; ++c) {
-      const int* items = cell_discs(grid, c);
-      for (int k = 0, count = cell_disc_count(grid, c); k < count; ++k) list[m++] = items[k];
-    }
+    for (int c = row - 1; c <= row + 1; ++c) m = append_cell(grid, c, list, m);
   }
   for (int k = 0; k < m; ++k) __builtin_prefetch(&hot[list[k]]);
   return m;
 }
 
 int* Simulation::Engine::scratch(int which) {
-  const std::size_t most = 9 * static_cast<std::size_t>(grid.capacity);
+  const std::size_t most = 9 * static_cast<std::size_t>(grid.capacity) + kInline;  // (see append_cell)
   if (neighbours.size() < 2 * most) neighbours.resize(2 * most);  // the slots may have grown
   return neighbours.data() + which * most;
 }
@@ -413,15 +430,16 @@ void Simulation::Engine::cross(int i) {
   HotDisc& d = hot[i];
   Scheduled& s = scheduled[i];
   advance_disc(d, now);
-  const int axis = s.crossing / 2;
-  const int direction = (s.crossing % 2 == 0) ? 1 : -1;
-  int cx = d.cx;
-  int cy = d.cy;
-  int& moved = axis == 0 ? cx : cy;
-  const int count = axis == 0 ? grid.nx : grid.ny;
-  moved += direction;
-  if (moved < 0 || moved >= count) {
+  // (arithmetic on the direction k rather than branches: k is random, branches on it mispredict)
+  const int k = s.crossing;
+  const int axis = k >> 1;
+  const int direction = 1 - 2 * (k & 1);
+  int cx = d.cx + (k == 0) - (k == 1);
+  int cy = d.cy + (k == 2) - (k == 3);
+  if (cx < 0 || cx >= grid.nx || cy < 0 || cy >= grid.ny) {
     // Only a periodic grid has finite outer faces: wrap the disc to the other side.
+    int& moved = axis == 0 ? cx : cy;
+    const int count = axis == 0 ? grid.nx : grid.ny;
     moved = moved < 0 ? count - 1 : 0;
     d.position[axis] -= direction * period[axis];
   }
@@ -437,12 +455,24 @@ void Simulation::Engine::cross(int i) {
   // Only the row of cells that just became adjacent is new.
   const Vec2 r = d.position;
   const Vec2 v = d.velocity;
-  for (int k = -1; k <= 1; ++k) {
-    if (axis == 0) {
-      scan_cell(i, cx + direction, cy + k, r, v, s);
+  // Its centre cell and the step along it; inside the grid (almost always), its three records
+  // are read directly, else cell by cell with the bounds checks and periodic images.
+  const int rx = cx + (k == 0) - (k == 1), ry = cy + (k == 2) - (k == 3);
+  const int along = grid.nx + axis * (1 - grid.nx);  // (nx for axis 0, 1 for axis 1)
+  if (rx - axis >= 0 && rx + axis < grid.nx && ry - (1 - axis) >= 0 && ry + (1 - axis) < grid.ny) {
+    int* list = scratch(0);
+    int m = 0;
+    const int c = rx + grid.nx * ry;
+    m = append_cell(grid, c - along, list, m);
+    m = append_cell(grid, c, list, m);
+    m = append_cell(grid, c + along, list, m);
+    if (has_gravity) {
+      scan_list<true>(hot, gravity, i, list, m, r, v, d.radius, now, s);
     } else {
-      scan_cell(i, cx + k, cy + direction, r, v, s);
+      scan_list<false>(hot, gravity, i, list, m, r, v, d.radius, now, s);
     }
+  } else {
+    for (int e = -1; e <= 1; ++e) scan_cell(i, rx + e * axis, ry + e * (1 - axis), r, v, s);
   }
   scan_walls(cell_of_disc(d), r, v, d.radius, s);
   set_crossing(i);
