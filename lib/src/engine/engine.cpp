@@ -389,12 +389,17 @@ void Simulation::Engine::predict_full(int i) {
   predict_gathered(i, list, gather(i, list));
 }
 
-// Both discs of a collision: gathering j's neighbours before testing i's lets the cache misses
-// of both overlap.
-void Simulation::Engine::predict_pair(int i, int j) {
+// A collision of discs i and j and their new predictions, ordered so that cache misses overlap
+// with work: the records of j's cells are requested, i's neighbours gathered (and their states
+// requested), then the impulse is computed while those loads are under way, then j's
+// neighbours are gathered, and only then are the pairs tested. (Cell membership does not
+// change at a collision, so gathering before the impulse is the same.)
+void Simulation::Engine::collide_and_predict(int i, int j) {
+  prefetch_block(cell_of_disc(hot[j]));
   int* list_j = scratch(1);  // (both calls ask for the same size: the second never reallocates)
   int* list_i = scratch(0);
   const int m_i = gather(i, list_i);
+  collide_pair(i, j);
   const int m_j = gather(j, list_j);
   predict_gathered(i, list_i, m_i);
   predict_gathered(j, list_j, m_j);
@@ -620,10 +625,8 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
         predict_full(i);
         continue;
       }
-      prefetch_block(cell_of_disc(hot[j]));  // for predict_pair, while the collision is computed
-      collide_pair(i, j);
+      collide_and_predict(i, j);
       if (logging) record(EventKind::DiscDisc, i, j, kNoWall);
-      predict_pair(i, j);
       ++result.disc_collisions;
     } else {
       const int w = s.wall;

@@ -117,7 +117,7 @@ struct Simulation::Engine {
   AdvanceResult advance(std::int64_t max_events, double max_duration);
   void advance_disc(HotDisc& d, double t) const;
   void predict_full(int i);
-  void predict_pair(int i, int j);
+  void collide_and_predict(int i, int j);
   void predict_gathered(int i, const int* list, int m);
   int gather(int i, int* list) const;
   int* scratch(int which);
