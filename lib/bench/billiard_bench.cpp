@@ -10,7 +10,13 @@
 //   billiard_bench [--n 100,1000,...] [--density 0.1,0.5] [--containers box,table,periodic]
 //                  [--gravity 0,1] [--repeats 5] [--events 1000000] [--course-n 100,1000]
 //                  [--cell SIZE] [--json FILE] [--wall]
-// Rates are per second of this thread's CPU time (--wall: elapsed time instead).
+//   billiard_bench --memory 1,4,16,256
+// Rates are per second of this thread's CPU time (--wall: elapsed time instead). --memory prints,
+// instead, what this machine's memory does for one thread with arrays of the given sizes (MB),
+// allocated like the engine's: the latency of one random cache-line read that depends on the
+// one before, and how many independent random lines per second it delivers. Where the
+// engine's arrays outgrow the fast sizes, its cost per collision steps up.
+#include "billiard/memory.hpp"
 #include "billiard/simulation.hpp"
 #ifdef BILLIARD_BENCH_COURSE
 #include "billiard/course.hpp"
@@ -138,6 +144,39 @@ double median(std::vector<double> values) {
 
 }  // namespace
 
+// Latency (ns) of dependent random cache-line reads and rate (lines/s) of independent ones, in
+// an array of `megabytes` MB. The dependent chase follows a random cycle through every line, so
+// neither the hardware prefetcher nor the caches (beyond the array's size) can help.
+void memory_probe(double megabytes) {
+  const std::size_t lines = std::max<std::size_t>(static_cast<std::size_t>(megabytes * (1 << 20) / 64), 2);
+  struct alignas(64) Line {
+    std::uint64_t next;
+    std::uint64_t pad[7];
+  };
+  billiard::BigVector<Line> memory(lines);
+  std::vector<std::uint32_t> order(lines);
+  for (std::size_t i = 0; i < lines; ++i) order[i] = static_cast<std::uint32_t>(i);
+  std::mt19937_64 rng(7);
+  std::shuffle(order.begin(), order.end(), rng);
+  for (std::size_t i = 0; i < lines; ++i) memory[order[i]].next = order[(i + 1) % lines];
+  const std::size_t steps = 20000000;
+  std::uint64_t at = order[0];
+  double t0 = now_seconds();
+  for (std::size_t k = 0; k < steps; ++k) at = memory[at].next;
+  const double latency = (now_seconds() - t0) / static_cast<double>(steps);
+  std::uint64_t x = 88172645463325252ull, sum = 0;
+  t0 = now_seconds();
+  for (std::size_t k = 0; k < steps; ++k) {
+    x ^= x << 13;  // xorshift: the next address does not depend on the data read
+    x ^= x >> 7;
+    x ^= x << 17;
+    sum += memory[x % lines].next;
+  }
+  const double rate = static_cast<double>(steps) / (now_seconds() - t0);
+  std::printf("%10g %14.1f %18.1f%s\n", megabytes, latency * 1e9, rate * 1e-6, (at + sum) == 1 ? " " : "");
+  std::fflush(stdout);
+}
+
 int main(int argc, char** argv) {
   std::vector<double> ns = {100, 1000, 10000, 100000, 1000000};
   std::vector<double> densities = {0.1, 0.5};
@@ -149,32 +188,55 @@ int main(int argc, char** argv) {
   double warmup = 2;  // collisions per disc before timing
   double cell = 0;
   std::string json;
+  std::vector<double> memory_sizes;
   for (int k = 1; k < argc; ++k) {
     const std::string arg = argv[k];
     auto value = [&]() -> std::string {
       if (k + 1 >= argc) {
-        std::cerr << arg << " needs a value\n";
+        std::cerr << "billiard_bench: " << arg << " needs a value (--help lists the options)\n";
         std::exit(2);
       }
       return argv[++k];
     };
-    if (arg == "--n") ns = parse_list(value());
-    else if (arg == "--density") densities = parse_list(value());
-    else if (arg == "--containers") containers = parse_words(value());
-    else if (arg == "--gravity") gravities = parse_list(value());
-    else if (arg == "--course-n") course_ns = parse_list(value());
-    else if (arg == "--repeats") repeats = std::stoi(value());
-    else if (arg == "--events") events = std::stod(value());
-    else if (arg == "--warmup") warmup = std::stod(value());
-    else if (arg == "--cell") cell = std::stod(value());
-    else if (arg == "--json") json = value();
-    else if (arg == "--wall") use_wall_clock = true;
-    else {
-      std::cout << "usage: billiard_bench [--n LIST] [--density LIST] [--containers box,table,periodic]\n"
-                   "                      [--gravity 0,1] [--repeats R] [--events E] [--warmup W]\n"
-                   "                      [--course-n LIST] [--cell SIZE] [--json FILE]\n";
-      return arg == "--help" ? 0 : 2;
+    try {
+      if (arg == "--n") ns = parse_list(value());
+      else if (arg == "--density") densities = parse_list(value());
+      else if (arg == "--containers") containers = parse_words(value());
+      else if (arg == "--gravity") gravities = parse_list(value());
+      else if (arg == "--course-n") course_ns = parse_list(value());
+      else if (arg == "--repeats") repeats = std::stoi(value());
+      else if (arg == "--events") events = std::stod(value());
+      else if (arg == "--warmup") warmup = std::stod(value());
+      else if (arg == "--cell") cell = std::stod(value());
+      else if (arg == "--json") json = value();
+      else if (arg == "--wall") use_wall_clock = true;
+      else if (arg == "--memory") memory_sizes = parse_list(value());
+      else if (arg != "--help") {
+        std::cerr << "billiard_bench: unknown option '" << arg << "' (--help lists the options)\n";
+        return 2;
+      } else {
+        std::cout << "usage: billiard_bench [--n LIST] [--density LIST] [--containers box,table,periodic]\n"
+                     "                      [--gravity 0,1] [--repeats R] [--events E] [--warmup W]\n"
+                     "                      [--course-n LIST] [--cell SIZE] [--json FILE] [--wall]\n"
+                     "       billiard_bench --memory LIST_OF_MEGABYTES\n";
+        return 0;
+      }
+    } catch (const std::exception&) {  // std::stod / std::stoi: not a number
+      std::cerr << "billiard_bench: " << arg << " takes numbers (a comma-separated list where it says LIST), got '"
+                << argv[k] << "'\n";
+      return 2;
     }
+  }
+  if (!memory_sizes.empty()) {
+    for (double megabytes : memory_sizes) {
+      if (!(megabytes > 0 && megabytes <= 65536)) {
+        std::cerr << "billiard_bench: --memory sizes must be between 0 and 65536 MB, got " << megabytes << "\n";
+        return 2;
+      }
+    }
+    std::printf("%10s %14s %18s\n", "array MB", "latency ns", "random lines M/s");
+    for (double megabytes : memory_sizes) memory_probe(megabytes);
+    return 0;
   }
   std::mt19937_64 rng(12345);
   std::vector<Row> rows;
