@@ -11,6 +11,9 @@
 
 #include "billiard/vec2.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace billiard {
 
 // Real roots of a t^2 + b t + c = 0 in increasing order (count 0, 1 or 2; a double root is
@@ -58,6 +61,16 @@ double disc_in_circle_time(const Vec2& r, const Vec2& v, const Vec2& g, double r
 // while approaching, and only if the foot of the perpendicular lies on the segment then.
 double disc_segment_time(const Vec2& r, const Vec2& v, const Vec2& g, const Vec2& a, const Vec2& b,
                          double radius);
+
+// A point at x moving at constant speed v between faces lo and hi (either may be +-infinity):
+// time to the face ahead, the larger of the times to the two faces (the face behind is reached
+// at a negative time, or at -infinity when at rest), so that nothing branches on the sign of v,
+// which is random in a gas and would be mispredicted half the time. A point a hair outside by
+// rounding gets 0 (leave now); at rest exactly on a face (0/0): never.
+inline double straight_face_time(double x, double v, double lo, double hi) {
+  const double t = std::max((hi - x) / v, (lo - x) / v);
+  return t >= 0 ? t : std::isnan(t) ? kNever : 0.0;
+}
 
 // A point (disc centre) leaving the axis-aligned cell [lo, hi] (bounds may be +-infinity).
 // Returns the time and which face: axis 0 = x, 1 = y; direction +1 through the upper face,

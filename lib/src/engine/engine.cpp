@@ -201,6 +201,15 @@ void Simulation::Engine::scan_cell(int i, int cx, int cy, const Vec2& r, const V
   }
 }
 
+// Pair tests of disc i (at r, v, time now) against a gathered list of discs (no image shifts).
+void Simulation::Engine::scan_listed(int i, const int* list, int m, const Vec2& r, const Vec2& v, Scheduled& s) const {
+  if (has_gravity) {
+    scan_list<true>(hot, gravity, i, list, m, r, v, hot[i].radius, now, s);
+  } else {
+    scan_list<false>(hot, gravity, i, list, m, r, v, hot[i].radius, now, s);
+  }
+}
+
 void Simulation::Engine::scan_walls(int cell, const Vec2& r, const Vec2& v, double radius, Scheduled& s) const {
   if (!cell_has_walls(grid, cell)) return;  // (most cells: no read of wall_ranges)
   for (int k = cell_walls_begin(grid, cell), end = cell_walls_end(grid, cell); k < end; ++k) {
@@ -227,16 +236,11 @@ void Simulation::Engine::set_crossing(int i) {
   }
   Scheduled& s = scheduled[i];
   if (!has_gravity) {
-    // Straight line. On each axis the time to the face ahead is the larger of the times to the
-    // two faces (the face behind is reached at a negative time, or at -infinity when at rest):
-    // no branch on the sign of the velocity, which is random and so mispredicted half the time.
-    // A disc a hair outside its cell by rounding gets t < 0: leave now. (0/0, at rest exactly
-    // on a face: never.)
+    // Straight line, the face ahead on each axis (direction code by arithmetic, no branches on
+    // the random signs of the velocity).
     const double vx = d.velocity.x(), vy = d.velocity.y();
-    double tx = std::max((hi.x() - d.position.x()) / vx, (lo.x() - d.position.x()) / vx);
-    double ty = std::max((hi.y() - d.position.y()) / vy, (lo.y() - d.position.y()) / vy);
-    if (!(tx >= 0)) tx = std::isnan(tx) ? kNever : 0.0;
-    if (!(ty >= 0)) ty = std::isnan(ty) ? kNever : 0.0;
+    const double tx = straight_face_time(d.position.x(), vx, lo.x(), hi.x());
+    const double ty = straight_face_time(d.position.y(), vy, lo.y(), hi.y());
     const int back_x = !(vx > 0), back_y = !(vy > 0), y_first = !(tx <= ty);
     s.crossing_time = d.time + std::min(tx, ty);
     s.crossing = back_x + y_first * (2 + back_y - back_x);
@@ -256,10 +260,9 @@ int Simulation::Engine::event_tag(int i) const {
   const Scheduled& s = scheduled[i];
   if (grid.nx * static_cast<std::int64_t>(grid.ny) > (std::int64_t{1} << 27)) return -1;
   if (s.crossing_time > s.contact_time) return 8 * cell_of_disc(d) + 4;
-  // (arithmetic on the direction k instead of a switch: k is random, a branch on it mispredicts)
   const int k = s.crossing;
-  const int cx = std::clamp(d.cx + (k == 0) - (k == 1), 0, grid.nx - 1);
-  const int cy = std::clamp(d.cy + (k == 2) - (k == 3), 0, grid.ny - 1);
+  const int cx = std::clamp(d.cx + step_x(k), 0, grid.nx - 1);
+  const int cy = std::clamp(d.cy + step_y(k), 0, grid.ny - 1);
   return 8 * (cx + grid.nx * cy) + k;
 }
 
@@ -340,27 +343,6 @@ void Simulation::Engine::prefetch_neighbours(int tag) const {
   }
 }
 
-// Appends the discs of cell c to list[m...] and returns the new length. A cell of at most kInline
-// discs (nearly all) has its three slots copied whatever its count, and the length advanced by
-// the count: a loop over the count (0 to 3, at random) mispredicted its exit most of the time
-// (cachegrind: the largest source of mispredicted branches at low density). `list` has room
-// for kInline entries beyond the discs it can receive (see scratch()).
-namespace {
-int append_cell(const Grid& grid, int c, int* list, int m) {
-  const int* record = &grid.records[static_cast<std::size_t>(c) * 4];
-  const int count = record[0] & (kHasWalls - 1);
-  if (count <= kInline) {
-    list[m] = record[1];
-    list[m + 1] = record[2];
-    list[m + 2] = record[3];
-    return m + count;
-  }
-  const int* items = &grid.spill[static_cast<std::size_t>(record[1])];
-  for (int k = 0; k < count; ++k) list[m + k] = items[k];
-  return m + count;
-}
-}  // namespace
-
 // Discs of the 3 x 3 block around disc i's cell, written to `list`, when that cell is an
 // interior cell (almost all: no wrapping or bounds checks needed); -1 otherwise. Their states
 // are prefetched, so that the cache misses (the bottleneck from N ~ 10^5 on, when the discs no
@@ -371,14 +353,14 @@ int Simulation::Engine::gather(int i, int* list) const {
   int m = 0;
   for (int dy = -1; dy <= 1; ++dy) {
     const int row = cell_of_disc(d) + dy * grid.nx;
-    for (int c = row - 1; c <= row + 1; ++c) m = append_cell(grid, c, list, m);
+    for (int c = row - 1; c <= row + 1; ++c) m = append_cell_discs(grid, c, list, m);
   }
   for (int k = 0; k < m; ++k) __builtin_prefetch(&hot[list[k]]);
   return m;
 }
 
 int* Simulation::Engine::scratch(int which) {
-  const std::size_t most = 9 * static_cast<std::size_t>(grid.capacity) + kInline;  // (see append_cell)
+  const std::size_t most = 9 * static_cast<std::size_t>(grid.capacity) + kInline;  // (see append_cell_discs)
   if (neighbours.size() < 2 * most) neighbours.resize(2 * most);  // the slots may have grown
   return neighbours.data() + which * most;
 }
@@ -416,11 +398,7 @@ void Simulation::Engine::predict_gathered(int i, const int* list, int m) {
   const Vec2 r = d.position;
   const Vec2 v = d.velocity;
   if (m >= 0) {
-    if (has_gravity) {
-      scan_list<true>(hot, gravity, i, list, m, r, v, d.radius, now, s);
-    } else {
-      scan_list<false>(hot, gravity, i, list, m, r, v, d.radius, now, s);
-    }
+    scan_listed(i, list, m, r, v, s);
   } else {
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dx = -1; dx <= 1; ++dx) scan_cell(i, d.cx + dx, d.cy + dy, r, v, s);
@@ -435,12 +413,11 @@ void Simulation::Engine::cross(int i) {
   HotDisc& d = hot[i];
   Scheduled& s = scheduled[i];
   advance_disc(d, now);
-  // (arithmetic on the direction k rather than branches: k is random, branches on it mispredict)
   const int k = s.crossing;
   const int axis = k >> 1;
   const int direction = 1 - 2 * (k & 1);
-  int cx = d.cx + (k == 0) - (k == 1);
-  int cy = d.cy + (k == 2) - (k == 3);
+  int cx = d.cx + step_x(k);
+  int cy = d.cy + step_y(k);
   if (cx < 0 || cx >= grid.nx || cy < 0 || cy >= grid.ny) {
     // Only a periodic grid has finite outer faces: wrap the disc to the other side.
     int& moved = axis == 0 ? cx : cy;
@@ -462,20 +439,15 @@ void Simulation::Engine::cross(int i) {
   const Vec2 v = d.velocity;
   // Its centre cell and the step along it; inside the grid (almost always), its three records
   // are read directly, else cell by cell with the bounds checks and periodic images.
-  const int rx = cx + (k == 0) - (k == 1), ry = cy + (k == 2) - (k == 3);
-  const int along = grid.nx + axis * (1 - grid.nx);  // (nx for axis 0, 1 for axis 1)
+  const int rx = cx + step_x(k), ry = cy + step_y(k);
+  const int along = axis == 0 ? grid.nx : 1;
   if (rx - axis >= 0 && rx + axis < grid.nx && ry - (1 - axis) >= 0 && ry + (1 - axis) < grid.ny) {
     int* list = scratch(0);
-    int m = 0;
     const int c = rx + grid.nx * ry;
-    m = append_cell(grid, c - along, list, m);
-    m = append_cell(grid, c, list, m);
-    m = append_cell(grid, c + along, list, m);
-    if (has_gravity) {
-      scan_list<true>(hot, gravity, i, list, m, r, v, d.radius, now, s);
-    } else {
-      scan_list<false>(hot, gravity, i, list, m, r, v, d.radius, now, s);
-    }
+    int m = append_cell_discs(grid, c - along, list, 0);
+    m = append_cell_discs(grid, c, list, m);
+    m = append_cell_discs(grid, c + along, list, m);
+    scan_listed(i, list, m, r, v, s);
   } else {
     for (int e = -1; e <= 1; ++e) scan_cell(i, rx + e * axis, ry + e * (1 - axis), r, v, s);
   }

@@ -19,6 +19,11 @@ namespace billiard {
 
 inline constexpr int kNoPartner = -2;  // Scheduled::partner when no contact is predicted
 
+// Cell steps of a crossing in direction k (Scheduled::crossing: 0 +x, 1 -x, 2 +y, 3 -y), by
+// arithmetic: k is random, and a branch or switch on it is mispredicted most of the time.
+inline int step_x(int k) { return (k == 0) - (k == 1); }
+inline int step_y(int k) { return (k == 2) - (k == 3); }
+
 // The hot state of one disc: everything the event loop reads for a pair test, a crossing or a
 // smooth elastic collision. 64 bytes, one cache line (checked by a static_assert in engine.cpp).
 // The radius lives here because every pair test needs it, the inverse mass because every
@@ -126,6 +131,7 @@ struct Simulation::Engine {
   void collide_wall(int i, int wall);
   double wall_time(const Wall& wall, const Vec2& r, const Vec2& v, double radius) const;
   void scan_cell(int i, int cx, int cy, const Vec2& r, const Vec2& v, Scheduled& s) const;
+  void scan_listed(int i, const int* list, int m, const Vec2& r, const Vec2& v, Scheduled& s) const;
   void scan_walls(int cell, const Vec2& r, const Vec2& v, double radius, Scheduled& s) const;
   void set_crossing(int i);
   int event_tag(int i) const;

@@ -218,13 +218,8 @@ double disc_segment_time(const Vec2& r, const Vec2& v, const Vec2& g, const Vec2
 CellExit cell_exit_time(const Vec2& r, const Vec2& v, const Vec2& g, const Vec2& lo, const Vec2& hi) {
   CellExit exit;
   for (int axis = 0; axis < 2; ++axis) {
-    if (g[axis] == 0) {
-      // No acceleration along this axis (gravity along the other one, the usual case): a straight
-      // line, as in the engine without gravity. The time to the face ahead is the larger of the
-      // times to both faces (no branch on the velocity's sign, which is random); rounding a hair
-      // outside: now; at rest (0/0 or -infinity): never.
-      double t = std::max((hi[axis] - r[axis]) / v[axis], (lo[axis] - r[axis]) / v[axis]);
-      if (!(t >= 0)) t = std::isnan(t) ? kNever : 0.0;
+    if (g[axis] == 0) {  // no acceleration along this axis (gravity along the other one): a line
+      const double t = straight_face_time(r[axis], v[axis], lo[axis], hi[axis]);
       if (t < exit.time) exit = {t, axis, v[axis] > 0 ? +1 : -1};
       continue;
     }
