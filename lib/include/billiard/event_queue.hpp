@@ -24,9 +24,14 @@
 // Hiding memory latency (the bound on speed from N ~ 10^5 on): an append to a bucket is not done
 // at once; its chunk is prefetched and the entry waits in a short pending list until the next
 // top() after the one that follows (or until a bucket is moved into the heap, which appends all
-// pending entries first), so the chunk has arrived by then. When a bucket is moved into the
-// heap, the caller is told (Keys::prefetch) which entries are coming: they are handled a few
-// events later. Measured with billiard_bench, figures in lib/src/engine/README-performance.md.
+// pending entries first), so the chunk has arrived by then. A bucket holds several chunks
+// chained one behind the other (about four when it is drained, at large N), and each link is
+// known only once the chunk before it has arrived: so while one bucket is being handled, the
+// next one's chain is walked one chunk per top(), each chunk prefetched a top() before it is
+// read, and the caller is told (Keys::prefetch) which entries are coming: they are handled
+// several events later. When a bucket is moved into the heap, the caller is told again (entries
+// filed after the walk passed are new to it). Measured with billiard_bench, figures in
+// lib/src/engine/README-performance.md.
 //
 // Keys: a small copyable object with `double key(int disc) const` and
 // `void prefetch(int disc, int tag) const` (a hint; may do nothing). VectorKeys reads a
@@ -84,6 +89,7 @@ class CalendarQueue {
     // The appends of the update() calls before the previous top(): their chunks have arrived.
     append_pending(waiting_);
     waiting_ = pending_;
+    walk_next_bucket();
     while (true) {
       if (heap_size_ == 0) refill();
       if (heap_size_ == 0) return kNothing;  // (only when no disc was assigned)
@@ -152,11 +158,7 @@ class CalendarQueue {
  private:
   static constexpr int kArity = 4;
   static constexpr int kPad = 3;  // root at storage_[kPad]: each group of 4 children on one cache line
-#ifdef BQ_PER
-  static constexpr double kPerBucket = BQ_PER;
-#else
   static constexpr double kPerBucket = 3.0;  // current entries per bucket aimed at
-#endif
   static constexpr int kNone = -1;
   static constexpr int kHeapLimit = 1024;  // heap size that calls for narrower buckets
   static constexpr Entry kNothing{std::numeric_limits<double>::infinity(), kNone, 0};
@@ -220,6 +222,18 @@ class CalendarQueue {
     chunk->entry[chunk->count++] = e;
   }
 
+  // One step along the next bucket's chain of chunks (see the top of this file): the chunk
+  // reached was prefetched a top() ago. Chunks are never freed to the system (only returned to
+  // the pool), so a walk that meets a chunk reused by another bucket reads valid memory and
+  // stops at that chain's end: a hint only.
+  void walk_next_bucket() {
+    if (walker_ == kNone) return;
+    const Chunk& chunk = chunks_[walker_];
+    for (int k = 0; k < chunk.count; ++k) keys_.prefetch(chunk.entry[k].disc, chunk.entry[k].tag);
+    walker_ = chunk.next;
+    if (walker_ != kNone) __builtin_prefetch(&chunks_[walker_]);
+  }
+
   // Appends the first `count` pending entries to their buckets.
   void append_pending(int count) {
     for (int k = 0; k < count; ++k) append(pending_bucket_[k], pending_entry_[k]);
@@ -263,8 +277,10 @@ class CalendarQueue {
         overflow_.resize(kept);
       }
       append_pending(pending_);  // (some may belong to this bucket)
-      // The bucket after this one is the next to be drained: start loading it.
-      __builtin_prefetch(&chunks_[(current_ + 1) & (buckets_ - 1)]);
+      // The bucket after this one is the next to be drained: start loading it, and walk its chain
+      // from the next top() on.
+      walker_ = static_cast<int>((current_ + 1) & (buckets_ - 1));
+      __builtin_prefetch(&chunks_[walker_]);
       for (int c = b; c >= 0;) {
         Chunk& chunk = chunks_[c];
         for (int k = 0; k < chunk.count; ++k) {
@@ -327,6 +343,7 @@ class CalendarQueue {
     moved_ = 0;
     changes_ = 0;
     pending_ = waiting_ = 0;
+    walker_ = kNone;
     storage_.assign(std::max(entries.size(), std::size_t{64}) + kPad, Entry{0.0, -1, 0});
     heap_size_ = 0;
     chunks_.assign(static_cast<std::size_t>(buckets_), Chunk{});
@@ -393,6 +410,7 @@ class CalendarQueue {
   int pending_bucket_[kPending];
   int pending_ = 0;
   int waiting_ = 0;
+  int walker_ = kNone;         // the next chunk to read on the walk along the next bucket's chain
   int buckets_ = 1;
   double origin_ = 0.0;        // bucket b covers [origin_ + b width_, origin_ + (b + 1) width_)
   double width_ = 1.0;
