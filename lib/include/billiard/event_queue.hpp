@@ -277,14 +277,22 @@ class CalendarQueue {
         overflow_.resize(kept);
       }
       append_pending(pending_);  // (some may belong to this bucket)
+      // The entries of the chunks the walk reached have had their data prefetched; entries filed
+      // since were just computed by the caller, their data still in its cache. The rest (the
+      // chunks from where the walk stopped on, or all of a bucket that was not walked) are
+      // prefetched now.
+      const int unwalked = walked_bucket_ == current_ ? walker_ : b;
       // The bucket after this one is the next to be drained: start loading it, and walk its chain
       // from the next top() on.
       walker_ = static_cast<int>((current_ + 1) & (buckets_ - 1));
+      walked_bucket_ = current_ + 1;
       __builtin_prefetch(&chunks_[walker_]);
+      bool fetch = false;
       for (int c = b; c >= 0;) {
         Chunk& chunk = chunks_[c];
+        fetch = fetch || c == unwalked;
         for (int k = 0; k < chunk.count; ++k) {
-          keys_.prefetch(chunk.entry[k].disc, chunk.entry[k].tag);
+          if (fetch) keys_.prefetch(chunk.entry[k].disc, chunk.entry[k].tag);
           heap_push(chunk.entry[k]);
         }
         moved_ += chunk.count;
@@ -344,6 +352,7 @@ class CalendarQueue {
     changes_ = 0;
     pending_ = waiting_ = 0;
     walker_ = kNone;
+    walked_bucket_ = -1;
     storage_.assign(std::max(entries.size(), std::size_t{64}) + kPad, Entry{0.0, -1, 0});
     heap_size_ = 0;
     chunks_.assign(static_cast<std::size_t>(buckets_), Chunk{});
@@ -411,6 +420,7 @@ class CalendarQueue {
   int pending_ = 0;
   int waiting_ = 0;
   int walker_ = kNone;         // the next chunk to read on the walk along the next bucket's chain
+  std::int64_t walked_bucket_ = -1;  // the bucket being walked (absolute index, like current_)
   int buckets_ = 1;
   double origin_ = 0.0;        // bucket b covers [origin_ + b width_, origin_ + (b + 1) width_)
   double width_ = 1.0;
