@@ -1,7 +1,8 @@
 // The event queue (billiard/event_queue.hpp), a calendar of time buckets in front of a small
 // heap, against a brute-force minimum: random keys, random changes (earlier, later, far in the
 // future, infinite), the pattern of the event loop (pop the top, move it ahead) and a change of
-// time scale that forces the calendar to re-plan its bucket width.
+// time scale that forces the calendar to re-plan its bucket width; and how early the queue
+// announces the entries it is about to hand out (the prefetch hints of the event loop).
 #include "billiard/event_queue.hpp"
 
 #include <gtest/gtest.h>
@@ -156,4 +157,53 @@ TEST(EventQueue, SupersededEntriesNeverComeOut) {
   }
   EXPECT_EQ(popped, std::vector<double>({3.25}));
   EXPECT_TRUE(queue.valid());
+}
+
+namespace {
+
+// Keys that remember, for each disc, the number of the top() call during which the queue last
+// announced it (Keys::prefetch), so that a test can tell how early entries are announced.
+struct AnnouncingKeys {
+  const std::vector<double>* keys = nullptr;
+  std::vector<long>* announced = nullptr;  // per disc: the top() call of the last announcement
+  const long* calls = nullptr;             // top() calls so far
+  double key(int disc) const { return (*keys)[static_cast<std::size_t>(disc)]; }
+  void prefetch(int disc, int) const { (*announced)[static_cast<std::size_t>(disc)] = *calls; }
+};
+
+}  // namespace
+
+// The queue tells the caller which entries are coming (so that their data can be loaded while
+// other events are handled). An entry drained from a bucket must be announced during an earlier
+// top() call than the one that hands it out: announced only when its bucket is drained, the first
+// entry of every bucket would come out in the same call, with no time for its data to arrive
+// (measured: 83% early that way, 98.9% with the walk along the next bucket; the rest were filed
+// into the next bucket after the walk had passed).
+TEST(EventQueue, EntriesAreAnnouncedBeforeTheTopCallThatHandsThemOut) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const int n = 20000;
+  std::vector<double> keys(n);
+  for (int d = 0; d < n; ++d) keys[d] = 10 * uniform(rng);
+  std::vector<long> announced(n, -1);
+  long calls = 0;
+  billiard::CalendarQueue<AnnouncingKeys> queue(AnnouncingKeys{&keys, &announced, &calls});
+  queue.assign(n);
+  long early = 0, handed_out = 0;
+  for (int step = 0; step < 400000; ++step) {
+    ++calls;
+    const auto top = queue.top();
+    ASSERT_EQ(top.time, keys[top.disc]);
+    if (step >= 100000) {  // (after the calendar has settled)
+      ++handed_out;
+      if (announced[top.disc] >= 0 && announced[top.disc] < calls) ++early;
+    }
+    queue.pop();
+    announced[top.disc] = -1;  // its next entry must be announced again
+    keys[top.disc] = top.time + 10 * uniform(rng);
+    queue.update(top.disc, keys[top.disc]);
+  }
+  const double fraction = static_cast<double>(early) / static_cast<double>(handed_out);
+  EXPECT_GE(fraction, 0.97) << "only " << fraction << " of the entries handed out by top() were announced "
+                            << "during an earlier top() call";
 }

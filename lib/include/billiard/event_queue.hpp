@@ -29,8 +29,9 @@
 // known only once the chunk before it has arrived: so while one bucket is being handled, the
 // next one's chain is walked one chunk per top(), each chunk prefetched a top() before it is
 // read, and the caller is told (Keys::prefetch) which entries are coming: they are handled
-// several events later. When a bucket is moved into the heap, the caller is told again (entries
-// filed after the walk passed are new to it). Measured with billiard_bench, figures in
+// several events later. When a bucket is moved into the heap, the caller is told about the
+// entries the walk did not reach (entries filed after it passed were just computed by the caller,
+// their data still in its cache). Measured with billiard_bench, figures in
 // lib/src/engine/README-performance.md.
 //
 // Keys: a small copyable object with `double key(int disc) const` and
