@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <numeric>
 #include <random>
 #include <vector>
 
@@ -17,6 +18,14 @@ using Queue = billiard::CalendarQueue<billiard::VectorKeys>;
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// n keys drawn uniformly from [0, 10).
+std::vector<double> random_keys(int n, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::vector<double> keys(n);
+  for (double& key : keys) key = 10 * uniform(rng);
+  return keys;
+}
 
 // The smallest key of a brute-force copy, and whether the queue's top has that key.
 void expect_top_is_minimum(Queue& queue, const std::vector<double>& keys) {
@@ -32,12 +41,9 @@ TEST(EventQueue, RandomChangesKeepTheMinimumOnTop) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   const int n = 500;
-  std::vector<double> keys(n);
+  std::vector<double> keys = random_keys(n, rng);
   std::vector<int> tags(n);
-  for (int d = 0; d < n; ++d) {
-    keys[d] = 10 * uniform(rng);
-    tags[d] = d;
-  }
+  std::iota(tags.begin(), tags.end(), 0);
   Queue queue(billiard::VectorKeys{&keys});
   queue.assign(n, tags);
   ASSERT_TRUE(queue.valid());
@@ -183,8 +189,7 @@ TEST(EventQueue, EntriesAreAnnouncedBeforeTheTopCallThatHandsThemOut) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   const int n = 20000;
-  std::vector<double> keys(n);
-  for (int d = 0; d < n; ++d) keys[d] = 10 * uniform(rng);
+  std::vector<double> keys = random_keys(n, rng);
   std::vector<long> announced(n, -1);
   long calls = 0;
   billiard::CalendarQueue<AnnouncingKeys> queue(AnnouncingKeys{&keys, &announced, &calls});

@@ -235,6 +235,13 @@ class CalendarQueue {
     if (walker_ != kNone) __builtin_prefetch(&chunks_[walker_]);
   }
 
+  // The bucket after the current one is the next to be drained: start loading its first chunk,
+  // and walk its chain from the next top() on.
+  void start_walk() {
+    walker_ = static_cast<int>((current_ + 1) & (buckets_ - 1));
+    __builtin_prefetch(&chunks_[walker_]);
+  }
+
   // Appends the first `count` pending entries to their buckets.
   void append_pending(int count) {
     for (int k = 0; k < count; ++k) append(pending_bucket_[k], pending_entry_[k]);
@@ -278,16 +285,12 @@ class CalendarQueue {
         overflow_.resize(kept);
       }
       append_pending(pending_);  // (some may belong to this bucket)
-      // The entries of the chunks the walk reached have had their data prefetched; entries filed
-      // since were just computed by the caller, their data still in its cache. The rest (the
-      // chunks from where the walk stopped on, or all of a bucket that was not walked) are
-      // prefetched now.
-      const int unwalked = walked_bucket_ == current_ ? walker_ : b;
-      // The bucket after this one is the next to be drained: start loading it, and walk its chain
-      // from the next top() on.
-      walker_ = static_cast<int>((current_ + 1) & (buckets_ - 1));
-      walked_bucket_ = current_ + 1;
-      __builtin_prefetch(&chunks_[walker_]);
+      // This bucket is the one being walked (set up by the refill or rebuild before). The entries
+      // of the chunks the walk reached have had their data prefetched; entries filed since were
+      // just computed by the caller, their data still in its cache. The rest (the chunks from
+      // where the walk stopped on) are prefetched now.
+      const int unwalked = walker_;
+      start_walk();
       bool fetch = false;
       for (int c = b; c >= 0;) {
         Chunk& chunk = chunks_[c];
@@ -352,11 +355,10 @@ class CalendarQueue {
     moved_ = 0;
     changes_ = 0;
     pending_ = waiting_ = 0;
-    walker_ = kNone;
-    walked_bucket_ = -1;
     storage_.assign(std::max(entries.size(), std::size_t{64}) + kPad, Entry{0.0, -1, 0});
     heap_size_ = 0;
     chunks_.assign(static_cast<std::size_t>(buckets_), Chunk{});
+    start_walk();
     free_.clear();
     overflow_.clear();
     for (const Entry& e : entries) file(e);
@@ -421,7 +423,6 @@ class CalendarQueue {
   int pending_ = 0;
   int waiting_ = 0;
   int walker_ = kNone;         // the next chunk to read on the walk along the next bucket's chain
-  std::int64_t walked_bucket_ = -1;  // the bucket being walked (absolute index, like current_)
   int buckets_ = 1;
   double origin_ = 0.0;        // bucket b covers [origin_ + b width_, origin_ + (b + 1) width_)
   double width_ = 1.0;
