@@ -9,7 +9,7 @@
 //
 //   billiard_bench [--n 100,1000,...] [--density 0.1,0.5] [--containers box,table,periodic]
 //                  [--gravity 0,1] [--repeats 5] [--events 1000000] [--course-n 100,1000]
-//                  [--cell SIZE] [--json FILE] [--wall]
+//                  [--cell SIZE] [--prefetch auto|on|off] [--json FILE] [--wall]
 //   billiard_bench --memory 1,4,16,256
 // Rates are per second of this thread's CPU time (--wall: elapsed time instead). --memory prints,
 // instead, what this machine's memory does for one thread with arrays of the given sizes (MB),
@@ -88,6 +88,9 @@ billiard::Points lattice(long n, double spacing, const Vec2& origin, long per_ro
   return points;
 }
 
+// --prefetch: Simulation::set_prefetch_ahead for every system (default automatic).
+billiard::Simulation::Prefetch prefetch_mode = billiard::Simulation::Prefetch::Automatic;
+
 billiard::Simulation make_system(const std::string& container, long n, double density, bool gravity,
                                  double cell, std::mt19937_64& rng) {
   const double area = static_cast<double>(n) * M_PI / density;  // radius 1
@@ -132,6 +135,7 @@ billiard::Simulation make_system(const std::string& container, long n, double de
   for (long k = 0; k < n; ++k) velocities.row(k) << normal(rng), normal(rng);
   if (gravity) sim.set_gravity(Vec2(0, -0.1));  // weak: a fall of 10 radii gains a speed ~1.4
   if (cell > 0) sim.set_cell_size(cell);
+  sim.set_prefetch_ahead(prefetch_mode);
   sim.add_discs(positions, velocities, 1.0, 1.0);
   return sim;
 }
@@ -208,6 +212,16 @@ int main(int argc, char** argv) {
       else if (arg == "--events") events = std::stod(value());
       else if (arg == "--warmup") warmup = std::stod(value());
       else if (arg == "--cell") cell = std::stod(value());
+      else if (arg == "--prefetch") {
+        const std::string mode = value();
+        if (mode == "auto") prefetch_mode = billiard::Simulation::Prefetch::Automatic;
+        else if (mode == "on") prefetch_mode = billiard::Simulation::Prefetch::On;
+        else if (mode == "off") prefetch_mode = billiard::Simulation::Prefetch::Off;
+        else {
+          std::cerr << "billiard_bench: --prefetch takes auto, on or off, got '" << mode << "'\n";
+          return 2;
+        }
+      }
       else if (arg == "--json") json = value();
       else if (arg == "--wall") use_wall_clock = true;
       else if (arg == "--memory") memory_sizes = parse_list(value());
@@ -217,7 +231,8 @@ int main(int argc, char** argv) {
       } else {
         std::cout << "usage: billiard_bench [--n LIST] [--density LIST] [--containers box,table,periodic]\n"
                      "                      [--gravity 0,1] [--repeats R] [--events E] [--warmup W]\n"
-                     "                      [--course-n LIST] [--cell SIZE] [--json FILE] [--wall]\n"
+                     "                      [--course-n LIST] [--cell SIZE] [--prefetch auto|on|off]\n"
+                     "                      [--json FILE] [--wall]\n"
                      "       billiard_bench --memory LIST_OF_MEGABYTES\n";
         return 0;
       }

@@ -212,3 +212,51 @@ TEST(EventQueue, EntriesAreAnnouncedBeforeTheTopCallThatHandsThemOut) {
   EXPECT_GE(fraction, 0.97) << "only " << fraction << " of the entries handed out by top() were announced "
                             << "during an earlier top() call";
 }
+
+// upcoming(changing), called after pop() by the event loop to guess the next event, drops from
+// the front of the heap the superseded entries and those of the disc about to be re-keyed (the
+// partner of a collision): the tops that follow must be exactly those of a queue that is never
+// asked, and the guess must be the next top whenever no earlier key is filed in between.
+TEST(EventQueue, UpcomingDropsOnlyEntriesThatCannotComeOut) {
+  const int n = 3000;
+  std::mt19937_64 rng(11);
+  std::vector<double> keys = random_keys(n, rng);
+  std::vector<double> plain_keys = keys;
+  Queue asked(billiard::VectorKeys{&keys});
+  Queue plain(billiard::VectorKeys{&plain_keys});
+  asked.assign(n);
+  plain.assign(n);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::uniform_int_distribution<int> any_disc(0, n - 1);
+  int guesses = 0, right = 0;
+  int guessed = -1;
+  double now = 0.0;
+  for (int step = 0; step < 100000; ++step) {
+    const Queue::Entry top = asked.top();
+    const Queue::Entry expected = plain.top();
+    ASSERT_EQ(top.disc, expected.disc) << "step " << step;
+    ASSERT_EQ(top.time, expected.time) << "step " << step;
+    if (guessed >= 0) {
+      ++guesses;
+      right += top.disc == guessed ? 1 : 0;
+    }
+    now = top.time;
+    asked.pop();
+    plain.pop();
+    // Half the steps are "collisions" with another disc, whose key changes too.
+    const int partner = step % 2 == 0 ? any_disc(rng) : -1;
+    const Queue::Entry* next = asked.upcoming(partner == top.disc ? -1 : partner);
+    guessed = next != nullptr ? next->disc : -1;
+    // The popped disc moves ahead (sometimes far); the partner gets a new key after `now`.
+    auto rekey = [&](int d, double key) {
+      keys[d] = plain_keys[d] = key;
+      asked.update(d, key);
+      plain.update(d, key);
+    };
+    rekey(top.disc, now + (step % 50 == 0 ? 1e3 : 2 * uniform(rng)));
+    if (partner >= 0 && partner != top.disc) rekey(partner, now + 2 * uniform(rng));
+  }
+  EXPECT_TRUE(asked.valid());
+  // Keys filed earlier than the guess (about one in n here) are the only wrong guesses.
+  EXPECT_GT(right, 0.95 * guesses) << right << " of " << guesses << " guesses were the next top";
+}

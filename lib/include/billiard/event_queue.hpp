@@ -102,9 +102,17 @@ class CalendarQueue {
   // Removes the entry top() returned; the caller then gives its disc a new key with update().
   void pop() { heap_pop(); }
 
-  // The heap's first entry after pop(), possibly superseded: the likely next top (the caller
-  // prefetches its data), or nullptr when the heap must be refilled first.
-  const Entry* upcoming() const { return heap_size_ > 0 ? &at(0) : nullptr; }
+  // The likely next top, called after pop() (the caller prefetches its data): the heap's first
+  // current entry, or nullptr when the heap must be refilled first. `changing` is a disc whose
+  // key the caller is about to change (the partner of a collision being handled; -1 for none):
+  // its entries will be superseded. Superseded entries, and those of `changing`, are dropped
+  // from the front of the heap here, as top() would drop them. (Without this the guess was wrong
+  // for 4 events in 10 at area fraction 0.5: the front entry was most often the partner's own
+  // entry for the same collision.)
+  const Entry* upcoming(int changing = kNone) {
+    while (heap_size_ > 0 && (at(0).disc == changing || keys_.key(at(0).disc) != at(0).time)) heap_pop();
+    return heap_size_ > 0 ? &at(0) : nullptr;
+  }
 
   // Files `disc`'s new key `time`, which the caller has already stored where Keys reads it.
   void update(int disc, double time, int tag = 0) {
@@ -195,7 +203,7 @@ class CalendarQueue {
     if (b < current_ + buckets_) {
       const int bucket = static_cast<int>(b & (buckets_ - 1));
       if (pending_ == kPending) append_pending(pending_);
-      __builtin_prefetch(&chunks_[bucket], 1);
+      prefetch_line(&chunks_[bucket]);
       pending_bucket_[pending_] = bucket;
       pending_entry_[pending_++] = e;
     } else {
@@ -232,14 +240,14 @@ class CalendarQueue {
     const Chunk& chunk = chunks_[walker_];
     for (int k = 0; k < chunk.count; ++k) keys_.prefetch(chunk.entry[k].disc, chunk.entry[k].tag);
     walker_ = chunk.next;
-    if (walker_ != kNone) __builtin_prefetch(&chunks_[walker_]);
+    if (walker_ != kNone) prefetch_line(&chunks_[walker_]);
   }
 
   // The bucket after the current one is the next to be drained: start loading its first chunk,
   // and walk its chain from the next top() on.
   void start_walk() {
     walker_ = static_cast<int>((current_ + 1) & (buckets_ - 1));
-    __builtin_prefetch(&chunks_[walker_]);
+    prefetch_line(&chunks_[walker_]);
   }
 
   // Appends the first `count` pending entries to their buckets.

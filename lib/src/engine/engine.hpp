@@ -100,6 +100,9 @@ struct Simulation::Engine {
 
   // ---- run ----
   bool prepared = false;
+  // Before each event, request the lines of the event expected after it (see prepare).
+  Simulation::Prefetch prefetch_mode = Simulation::Prefetch::Automatic;
+  bool prefetch_ahead = false;
   double now = 0.0;
   Grid grid;
   CalendarQueue<ScheduledKeys> queue;

@@ -544,6 +544,12 @@ std::string Simulation::validate(double tolerance) {
   return e.problem;
 }
 
+void Simulation::set_prefetch_ahead(Prefetch mode) {
+  Engine& e = *engine_;
+  require_setup(e, "set_prefetch_ahead");
+  e.prefetch_mode = mode;
+}
+
 void Simulation::set_validate_every_event(bool on) { engine_->validate_every_event = on; }
 const std::string& Simulation::last_problem() const { return engine_->problem; }
 
