@@ -98,10 +98,10 @@ void Simulation::Engine::prepare() {
     const int cell = cell_of(grid, d.position);
     link(i, cell % grid.nx, cell / grid.nx);
   }
-  // Requesting the next event's lines a whole event ahead costs about 8% where everything is in
-  // the caches (N = 10^3 to 3 10^4) and gains from where the discs' states and schedules outgrow
-  // them: even at N = 10^5 (10 MB of them), +15% at N = 10^6 (billiard_bench, interleaved rounds,
-  // README-performance.md, sixth pass).
+  // Requesting the next event's lines a whole event ahead costs 7-13% where everything is in the
+  // caches (N = 10^3 to 3 x 10^4), breaks even at N = 10^5 (10 MB of states and schedules) and
+  // gains 11-19% at N = 10^6 (billiard_bench, interleaved rounds; README-performance.md, sixth
+  // pass): on from 16 MB of them, about 170,000 discs.
   constexpr double kCachedBytes = 16.0 * (1 << 20);
   prefetch_ahead = prefetch_mode == Simulation::Prefetch::On ||
                    (prefetch_mode == Simulation::Prefetch::Automatic &&
