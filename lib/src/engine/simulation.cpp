@@ -305,6 +305,12 @@ void Simulation::set_cell_size(double size) {
   e.cell_size = size;
 }
 
+void Simulation::set_prefetch_ahead(Prefetch mode) {
+  Engine& e = *engine_;
+  require_setup(e, "set_prefetch_ahead");
+  e.prefetch_mode = mode;
+}
+
 int Simulation::add_disc(const Disc& disc) {
   Engine& e = *engine_;
   require_setup(e, "add_disc");
@@ -542,12 +548,6 @@ std::string Simulation::validate(double tolerance) {
   Engine& e = *engine_;
   e.problem = e.check(tolerance);
   return e.problem;
-}
-
-void Simulation::set_prefetch_ahead(Prefetch mode) {
-  Engine& e = *engine_;
-  require_setup(e, "set_prefetch_ahead");
-  e.prefetch_mode = mode;
 }
 
 void Simulation::set_validate_every_event(bool on) { engine_->validate_every_event = on; }
