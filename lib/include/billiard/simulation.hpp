@@ -89,7 +89,7 @@ class Simulation {
   void set_cell_size(double size);
   // Whether each event starts loading the data of the event expected after it (the discs' states
   // around it) into the caches: faster for large systems, slower where everything fits in the
-  // caches anyway. Automatic (the default) turns it on from about 170,000 discs; On and Off force
+  // caches anyway. Automatic (the default) turns it on from about 87,000 discs; On and Off force
   // it (benchmarks, tests). The events and results are the same either way.
   enum class Prefetch { Automatic, On, Off };
   void set_prefetch_ahead(Prefetch mode);

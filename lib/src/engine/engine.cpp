@@ -99,10 +99,11 @@ void Simulation::Engine::prepare() {
     link(i, cell % grid.nx, cell / grid.nx);
   }
   // Requesting the next event's lines a whole event ahead costs 7-13% where everything is in the
-  // caches (N = 10^3 to 3 x 10^4), breaks even at N = 10^5 (10 MB of states and schedules) and
-  // gains 11-19% at N = 10^6 (billiard_bench, interleaved rounds; README-performance.md, sixth
-  // pass): on from 16 MB of them, about 170,000 discs.
-  constexpr double kCachedBytes = 16.0 * (1 << 20);
+  // caches (N = 10^3 to 3 x 10^4) and 3-6% at 5 x 10^4, gains 2-9% at 10^5, 15-20% at 2 x 10^5
+  // and 11-19% at 10^6 (billiard_bench, interleaved rounds; README-performance.md, sixth and
+  // seventh passes): on from 8 MB of states and schedules, about 87,000 discs, which is where the
+  // whole engine (~390 bytes per disc) outgrows this machine's 32 MB L3 cache.
+  constexpr double kCachedBytes = 8.0 * (1 << 20);
   prefetch_ahead = prefetch_mode == Simulation::Prefetch::On ||
                    (prefetch_mode == Simulation::Prefetch::Automatic &&
                     static_cast<double>(n) * (sizeof(HotDisc) + sizeof(Scheduled)) > kCachedBytes);
