@@ -141,7 +141,7 @@ TEST(Sectors, LowAndHighDensityRunsStayValid) {
   }
 }
 
-// Requesting the next event's data ahead (on by itself only from about 170,000 discs) is a hint
+// Requesting the next event's data ahead (on by itself only from about 87,000 discs) is a hint
 // to the caches, but it drops entries from the queue's heap early, which can change the order in
 // which two entries of the same instant come out (the two discs of one collision: the same event,
 // computed from the other side, equal up to rounding). Forced on and off, a dense and a dilute box
