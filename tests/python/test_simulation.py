@@ -178,6 +178,33 @@ def test_other_bad_calls_raise():
     assert len(sim) == 1
 
 
+def test_prefetch_ahead_changes_no_event_and_refuses_an_unknown_mode():
+    runs = {}
+    for mode in ("on", "off"):
+        sim = billiard.Simulation()
+        sim.set_periodic_box(60.0, 60.0)
+        sim.add_random_discs(400, 1.0, seed=3)
+        sim.set_prefetch_ahead(mode)
+        sim.enable_event_log(True)
+        sim.advance(events=500)
+        runs[mode] = sim.event_log
+    # A speed hint only: the same events (the two discs of a collision may be listed the other way
+    # round, since its two queue entries are equal up to rounding), at the same times.
+    on, off = runs["on"], runs["off"]
+    np.testing.assert_allclose(on["time"], off["time"], rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(np.sort(np.stack([on["disc"], on["other"]]), axis=0),
+                                  np.sort(np.stack([off["disc"], off["other"]]), axis=0))
+    np.testing.assert_array_equal(on["wall"], off["wall"])
+    sim = billiard.Simulation()
+    with pytest.raises(ValueError, match="set_prefetch_ahead.*'sometimes'"):
+        sim.set_prefetch_ahead("sometimes")
+    sim.set_circular_table(5.0)
+    sim.add_disc((0.0, 0.0), (1.0, 0.0))
+    sim.advance(events=1)
+    with pytest.raises((RuntimeError, ValueError), match="started"):
+        sim.set_prefetch_ahead("on")
+
+
 # ---- replays ----------------------------------------------------------------------------------
 
 def test_replay_by_event_yields_one_state_per_event_ending_at_the_current_state():
