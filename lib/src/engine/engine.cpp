@@ -301,12 +301,11 @@ struct CrossingCells {
   int left, entered, row[3];
 };
 CrossingCells crossing_cells(const Grid& grid, int c, int k) {
-  const int step[4] = {1, -1, grid.nx, -grid.nx};
-  const int across_of[4] = {grid.nx, grid.nx, 1, 1};
-  const int across = across_of[k];
+  const int step = step_x(k) + step_y(k) * grid.nx;  // to the next cell in direction k
+  const int across = step_x(k) != 0 ? grid.nx : 1;    // along the row that becomes adjacent
   const int last = grid.nx * grid.ny - 1;
-  const int centre = c + step[k];
-  return {std::clamp(c - step[k], 0, last), c,
+  const int centre = c + step;
+  return {std::clamp(c - step, 0, last), c,
           {std::clamp(centre - across, 0, last), std::clamp(centre, 0, last), std::clamp(centre + across, 0, last)}};
 }
 
