@@ -153,8 +153,13 @@ class Simulation {
   // `tolerance` times the smaller radius, every disc lies in its cell and the queue is in order
   // and holds every disc's next event; otherwise a description of the first problem found.
   std::string validate(double tolerance = 1e-9);
-  // Runs validate() after every event and stops advance() at the first problem (slow; tests).
+  // Runs validate() after every event and stops advance() at the first problem (slow, O(N) per
+  // event; tests).
   void set_validate_every_event(bool on);
+  // The same checks for the discs each collision changed only (inside the container, off the
+  // walls, in their cells, no overlap with any disc near them, next event not in the past):
+  // O(1) per event, for long runs. advance() stops at the first problem.
+  void set_check_event_discs(bool on);
   const std::string& last_problem() const;
 
   struct Engine;  // internals, lib/src/engine/engine.hpp

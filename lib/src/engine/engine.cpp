@@ -604,8 +604,8 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
       continue;
     }
     crossings_in_a_row = 0;
-    if (s.partner >= 0) {
-      const int j = s.partner;
+    const int j = s.partner;  // (s is the next prediction once the event is handled)
+    if (j >= 0) {
       if (changing != j) {  // j collided since: stale
         ++result.stale_events;
         predict_full(i);
@@ -624,6 +624,10 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
     ++result.collisions;
     if (validate_every_event) {
       problem = check();
+      if (!problem.empty()) break;
+    } else if (check_event_discs) {
+      problem = disc_problem(i, 1e-9, nullptr);
+      if (problem.empty() && j >= 0) problem = disc_problem(j, 1e-9, nullptr);
       if (!problem.empty()) break;
     }
   }
@@ -655,6 +659,102 @@ State Simulation::Engine::state_now() const {
   return state;
 }
 
+// The checks of validate() for disc i at the current time: inside its container, off every wall,
+// in its cell, not overlapping a disc of the 3 x 3 cells around it, its next event not in the
+// past. `positions`: every disc's position now (validate() checks each pair once, from its lower
+// index), or null: the positions needed are computed and every neighbour is checked (the check
+// of the discs an event changed, O(1) per event).
+std::string Simulation::Engine::disc_problem(int i, double tolerance, const Vec2* positions) const {
+  const auto at = [&](int j) -> Vec2 {
+    if (positions) return positions[j];
+    HotDisc moved = hot[j];
+    advance_disc(moved, now);
+    return moved.position;
+  };
+  const Vec2 ri = at(i);
+  std::ostringstream out;
+  out.precision(17);
+  const HotDisc& d = hot[i];
+  const int cell_i = cell_of_disc(d);
+  const double slack = tolerance * d.radius;
+  // Inside the container and off every wall.
+  if (has_table && ri.norm() > table_radius - d.radius + slack) {
+    out << "disc " << i << " outside the table: |r| = " << ri.norm() << " > R - a = " << table_radius - d.radius;
+    return out.str();
+  }
+  if (!outlines.empty()) {
+    int inside = 0;
+    for (const Points& outline : outlines) inside += inside_polygon(outline, ri) ? 1 : 0;
+    if (inside % 2 == 0) {
+      out << "disc " << i << " at (" << ri.x() << ", " << ri.y() << ") outside the walls";
+      return out.str();
+    }
+  }
+  auto check_wall = [&](int w) {
+    const Wall& wall = walls[w];
+    if (wall.kind == WallKind::Circle) return true;
+    const double distance = (closest_point(wall, ri) - ri).norm();
+    if (distance < d.radius - slack) {
+      out << "disc " << i << " overlaps wall " << w << ": distance " << distance << " < radius " << d.radius;
+      return false;
+    }
+    return true;
+  };
+  if (walls.size() <= 64) {
+    for (int w = 0; w < static_cast<int>(walls.size()); ++w) {
+      if (!check_wall(w)) return out.str();
+    }
+  } else {
+    for (int k = cell_walls_begin(grid, cell_i); k < cell_walls_end(grid, cell_i); ++k) {
+      if (!check_wall(grid.wall_items[k])) return out.str();
+    }
+  }
+  // In its cell (up to rounding).
+  Vec2 lo, hi;
+  cell_bounds(grid, cell_i, lo, hi);
+  const double cell_slack = 1e-9 * grid.cell.maxCoeff();
+  if ((ri.array() < lo.array() - cell_slack).any() || (ri.array() > hi.array() + cell_slack).any()) {
+    out << "disc " << i << " at (" << ri.x() << ", " << ri.y() << ") is not in its cell " << cell_i;
+    return out.str();
+  }
+  // No overlap with the discs of the neighbouring cells.
+  const int cx = d.cx;
+  const int cy = d.cy;
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      int x = cx + dx, y = cy + dy;
+      Vec2 shift = Vec2::Zero();
+      if (x < 0 || x >= grid.nx || y < 0 || y >= grid.ny) {
+        if (!grid.periodic) continue;
+        if (x < 0) { x += grid.nx; shift.x() = -period.x(); }
+        if (x >= grid.nx) { x -= grid.nx; shift.x() = period.x(); }
+        if (y < 0) { y += grid.ny; shift.y() = -period.y(); }
+        if (y >= grid.ny) { y -= grid.ny; shift.y() = period.y(); }
+      }
+      const int cell = x + grid.nx * y;
+      for (int k = 0; k < cell_disc_count(grid, cell); ++k) {
+        const int j = cell_discs(grid, cell)[k];
+        if (positions ? j <= i : j == i) continue;
+        const double distance = (ri - at(j) - shift).norm();
+        const double contact = d.radius + hot[j].radius;
+        if (distance < contact - tolerance * std::min(d.radius, hot[j].radius)) {
+          out << "discs " << i << " and " << j << " overlap: distance " << distance << " < " << contact
+              << " at time " << now;
+          return out.str();
+        }
+      }
+    }
+  }
+  // The next event lies in the future.
+  const Scheduled& s = scheduled[i];
+  if (std::min(s.contact_time, s.crossing_time) < now) {
+    out << "disc " << i << ": next event at " << std::min(s.contact_time, s.crossing_time) << " is before now (" << now
+        << ")";
+    return out.str();
+  }
+  return "";
+}
+
 std::string Simulation::Engine::check(double tolerance) const {
   if (!prepared) return "";
   const int n = static_cast<int>(hot.size());
@@ -664,87 +764,9 @@ std::string Simulation::Engine::check(double tolerance) const {
     advance_disc(d, now);
     r[i] = d.position;
   }
-  std::ostringstream out;
-  out.precision(17);
   for (int i = 0; i < n; ++i) {
-    const HotDisc& d = hot[i];
-    const int cell_i = cell_of_disc(d);
-    const double slack = tolerance * d.radius;
-    // Inside the container and off every wall.
-    if (has_table && r[i].norm() > table_radius - d.radius + slack) {
-      out << "disc " << i << " outside the table: |r| = " << r[i].norm() << " > R - a = " << table_radius - d.radius;
-      return out.str();
-    }
-    if (!outlines.empty()) {
-      int inside = 0;
-      for (const Points& outline : outlines) inside += inside_polygon(outline, r[i]) ? 1 : 0;
-      if (inside % 2 == 0) {
-        out << "disc " << i << " at (" << r[i].x() << ", " << r[i].y() << ") outside the walls";
-        return out.str();
-      }
-    }
-    auto check_wall = [&](int w) {
-      const Wall& wall = walls[w];
-      if (wall.kind == WallKind::Circle) return true;
-      const double distance = (closest_point(wall, r[i]) - r[i]).norm();
-      if (distance < d.radius - slack) {
-        out << "disc " << i << " overlaps wall " << w << ": distance " << distance << " < radius " << d.radius;
-        return false;
-      }
-      return true;
-    };
-    if (walls.size() <= 64) {
-      for (int w = 0; w < static_cast<int>(walls.size()); ++w) {
-        if (!check_wall(w)) return out.str();
-      }
-    } else {
-      for (int k = cell_walls_begin(grid, cell_i); k < cell_walls_end(grid, cell_i); ++k) {
-        if (!check_wall(grid.wall_items[k])) return out.str();
-      }
-    }
-    // In its cell (up to rounding).
-    Vec2 lo, hi;
-    cell_bounds(grid, cell_i, lo, hi);
-    const double cell_slack = 1e-9 * grid.cell.maxCoeff();
-    if ((r[i].array() < lo.array() - cell_slack).any() || (r[i].array() > hi.array() + cell_slack).any()) {
-      out << "disc " << i << " at (" << r[i].x() << ", " << r[i].y() << ") is not in its cell " << cell_i;
-      return out.str();
-    }
-    // No overlap with the discs of the neighbouring cells.
-    const int cx = d.cx;
-    const int cy = d.cy;
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dx = -1; dx <= 1; ++dx) {
-        int x = cx + dx, y = cy + dy;
-        Vec2 shift = Vec2::Zero();
-        if (x < 0 || x >= grid.nx || y < 0 || y >= grid.ny) {
-          if (!grid.periodic) continue;
-          if (x < 0) { x += grid.nx; shift.x() = -period.x(); }
-          if (x >= grid.nx) { x -= grid.nx; shift.x() = period.x(); }
-          if (y < 0) { y += grid.ny; shift.y() = -period.y(); }
-          if (y >= grid.ny) { y -= grid.ny; shift.y() = period.y(); }
-        }
-        const int cell = x + grid.nx * y;
-        for (int k = 0; k < cell_disc_count(grid, cell); ++k) {
-          const int j = cell_discs(grid, cell)[k];
-          if (j <= i) continue;
-          const double distance = (r[i] - r[j] - shift).norm();
-          const double contact = d.radius + hot[j].radius;
-          if (distance < contact - tolerance * std::min(d.radius, hot[j].radius)) {
-            out << "discs " << i << " and " << j << " overlap: distance " << distance << " < " << contact
-                << " at time " << now;
-            return out.str();
-          }
-        }
-      }
-    }
-    // The next event lies in the future.
-    const Scheduled& s = scheduled[i];
-    if (std::min(s.contact_time, s.crossing_time) < now) {
-      out << "disc " << i << ": next event at " << std::min(s.contact_time, s.crossing_time) << " is before now (" << now
-          << ")";
-      return out.str();
-    }
+    std::string found = disc_problem(i, tolerance, r.data());
+    if (!found.empty()) return found;
   }
   // Heap order, and an entry for every disc's next event.
   if (!queue.valid()) return "event queue out of order, or a disc's next event missing from it";

@@ -112,6 +112,7 @@ struct Simulation::Engine {
   bool logging = false;
   std::vector<EventRecord> log;
   bool validate_every_event = false;
+  bool check_event_discs = false;
   std::string problem;
 
   // Setup helpers (simulation.cpp).
@@ -147,6 +148,7 @@ struct Simulation::Engine {
   void unlink(int i);
   State state_now() const;
   std::string check(double tolerance = 1e-9) const;
+  std::string disc_problem(int i, double tolerance, const Vec2* positions) const;
   void record(EventKind kind, int i, int other, int wall);
 };
 

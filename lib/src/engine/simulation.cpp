@@ -551,6 +551,7 @@ std::string Simulation::validate(double tolerance) {
 }
 
 void Simulation::set_validate_every_event(bool on) { engine_->validate_every_event = on; }
+void Simulation::set_check_event_discs(bool on) { engine_->check_event_discs = on; }
 const std::string& Simulation::last_problem() const { return engine_->problem; }
 
 }  // namespace billiard
