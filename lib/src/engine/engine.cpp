@@ -622,12 +622,13 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
       ++result.wall_collisions;
     }
     ++result.collisions;
-    if (validate_every_event) {
-      problem = check();
-      if (!problem.empty()) break;
-    } else if (check_event_discs) {
-      problem = disc_problem(i, 1e-9, nullptr);
-      if (problem.empty() && j >= 0) problem = disc_problem(j, 1e-9, nullptr);
+    if (validate_every_event | check_event_discs) {  // (one test per event when neither is on)
+      if (validate_every_event) {
+        problem = check();
+      } else {
+        problem = disc_problem(i, 1e-9, nullptr);
+        if (problem.empty() && j >= 0) problem = disc_problem(j, 1e-9, nullptr);
+      }
       if (!problem.empty()) break;
     }
   }
