@@ -660,6 +660,17 @@ State Simulation::Engine::state_now() const {
   return state;
 }
 
+namespace {
+// A problem's description, numbers with all their digits (made only when a check fails).
+template <class... Parts>
+std::string describe(const Parts&... parts) {
+  std::ostringstream out;
+  out.precision(17);
+  (out << ... << parts);
+  return out.str();
+}
+}  // namespace
+
 // The checks of validate() for disc i at the current time: inside its container, off every wall,
 // in its cell, not overlapping a disc of the 3 x 3 cells around it, its next event not in the
 // past. `positions`: every disc's position now (validate() checks each pair once, from its lower
@@ -673,57 +684,43 @@ std::string Simulation::Engine::disc_problem(int i, double tolerance, const Vec2
     return moved.position;
   };
   const Vec2 ri = at(i);
-  std::ostringstream out;
-  out.precision(17);
   const HotDisc& d = hot[i];
   const int cell_i = cell_of_disc(d);
   const double slack = tolerance * d.radius;
   // Inside the container and off every wall.
   if (has_table && ri.norm() > table_radius - d.radius + slack) {
-    out << "disc " << i << " outside the table: |r| = " << ri.norm() << " > R - a = " << table_radius - d.radius;
-    return out.str();
+    return describe("disc ", i, " outside the table: |r| = ", ri.norm(), " > R - a = ", table_radius - d.radius);
   }
   if (!outlines.empty()) {
     int inside = 0;
     for (const Points& outline : outlines) inside += inside_polygon(outline, ri) ? 1 : 0;
-    if (inside % 2 == 0) {
-      out << "disc " << i << " at (" << ri.x() << ", " << ri.y() << ") outside the walls";
-      return out.str();
-    }
+    if (inside % 2 == 0) return describe("disc ", i, " at (", ri.x(), ", ", ri.y(), ") outside the walls");
   }
-  auto check_wall = [&](int w) {
+  const auto wall_problem = [&](int w) -> std::string {
     const Wall& wall = walls[w];
-    if (wall.kind == WallKind::Circle) return true;
+    if (wall.kind == WallKind::Circle) return "";
     const double distance = (closest_point(wall, ri) - ri).norm();
-    if (distance < d.radius - slack) {
-      out << "disc " << i << " overlaps wall " << w << ": distance " << distance << " < radius " << d.radius;
-      return false;
-    }
-    return true;
+    if (distance >= d.radius - slack) return "";
+    return describe("disc ", i, " overlaps wall ", w, ": distance ", distance, " < radius ", d.radius);
   };
-  if (walls.size() <= 64) {
-    for (int w = 0; w < static_cast<int>(walls.size()); ++w) {
-      if (!check_wall(w)) return out.str();
-    }
-  } else {
-    for (int k = cell_walls_begin(grid, cell_i); k < cell_walls_end(grid, cell_i); ++k) {
-      if (!check_wall(grid.wall_items[k])) return out.str();
-    }
+  const bool few_walls = walls.size() <= 64;
+  const int first_wall = few_walls ? 0 : cell_walls_begin(grid, cell_i);
+  const int end_wall = few_walls ? static_cast<int>(walls.size()) : cell_walls_end(grid, cell_i);
+  for (int k = first_wall; k < end_wall; ++k) {
+    std::string found = wall_problem(few_walls ? k : grid.wall_items[k]);
+    if (!found.empty()) return found;
   }
   // In its cell (up to rounding).
   Vec2 lo, hi;
   cell_bounds(grid, cell_i, lo, hi);
   const double cell_slack = 1e-9 * grid.cell.maxCoeff();
   if ((ri.array() < lo.array() - cell_slack).any() || (ri.array() > hi.array() + cell_slack).any()) {
-    out << "disc " << i << " at (" << ri.x() << ", " << ri.y() << ") is not in its cell " << cell_i;
-    return out.str();
+    return describe("disc ", i, " at (", ri.x(), ", ", ri.y(), ") is not in its cell ", cell_i);
   }
   // No overlap with the discs of the neighbouring cells.
-  const int cx = d.cx;
-  const int cy = d.cy;
   for (int dy = -1; dy <= 1; ++dy) {
     for (int dx = -1; dx <= 1; ++dx) {
-      int x = cx + dx, y = cy + dy;
+      int x = d.cx + dx, y = d.cy + dy;
       Vec2 shift = Vec2::Zero();
       if (x < 0 || x >= grid.nx || y < 0 || y >= grid.ny) {
         if (!grid.periodic) continue;
@@ -739,20 +736,15 @@ std::string Simulation::Engine::disc_problem(int i, double tolerance, const Vec2
         const double distance = (ri - at(j) - shift).norm();
         const double contact = d.radius + hot[j].radius;
         if (distance < contact - tolerance * std::min(d.radius, hot[j].radius)) {
-          out << "discs " << i << " and " << j << " overlap: distance " << distance << " < " << contact
-              << " at time " << now;
-          return out.str();
+          return describe("discs ", i, " and ", j, " overlap: distance ", distance, " < ", contact, " at time ", now);
         }
       }
     }
   }
   // The next event lies in the future.
   const Scheduled& s = scheduled[i];
-  if (std::min(s.contact_time, s.crossing_time) < now) {
-    out << "disc " << i << ": next event at " << std::min(s.contact_time, s.crossing_time) << " is before now (" << now
-        << ")";
-    return out.str();
-  }
+  const double next = std::min(s.contact_time, s.crossing_time);
+  if (next < now) return describe("disc ", i, ": next event at ", next, " is before now (", now, ")");
   return "";
 }
 
