@@ -267,30 +267,43 @@ int main(int argc, char** argv) {
       // A periodic box has no floor: under gravity the speeds grow without bound while the
       // collision rate does not (all discs fall alike), so the run would time only crossings.
       if (container == "periodic" && g != 0) continue;
-      for (double density : densities) {
-        for (double nd : ns) {
-          const long n = static_cast<long>(nd);
+      // For each N, the densities' timed runs take turns (run r of every density, then run r + 1),
+      // so that a slow minute of a shared machine hits both sides of the low/high density ratio
+      // alike instead of one of them.
+      for (double nd : ns) {
+        const long n = static_cast<long>(nd);
+        struct Timed {
+          double density;
+          billiard::Simulation sim;
+          double setup;
+          std::vector<double> rates;
+          double crossings = 0, collisions = 0, stale = 0;
+        };
+        std::vector<Timed> systems;
+        for (double density : densities) {
           const auto t0 = Clock::now();
           billiard::Simulation sim = make_system(container, n, density, g != 0, cell, rng);
           sim.advance(static_cast<std::int64_t>(warmup * static_cast<double>(n)));
-          const double setup = std::chrono::duration<double>(Clock::now() - t0).count();
-          std::vector<double> rates;
-          double crossings = 0, collisions = 0, stale = 0;
-          for (int r = 0; r < repeats; ++r) {
+          systems.push_back({density, std::move(sim), std::chrono::duration<double>(Clock::now() - t0).count(), {}});
+        }
+        for (int r = 0; r < repeats; ++r) {
+          for (Timed& t : systems) {
             const double start = now_seconds();
-            const billiard::AdvanceResult result = sim.advance(static_cast<std::int64_t>(events));
+            const billiard::AdvanceResult result = t.sim.advance(static_cast<std::int64_t>(events));
             const double seconds = now_seconds() - start;
-            rates.push_back(static_cast<double>(result.collisions) / seconds);
-            crossings += static_cast<double>(result.cell_crossings);
-            collisions += static_cast<double>(result.collisions);
-            stale += static_cast<double>(result.stale_events);
+            t.rates.push_back(static_cast<double>(result.collisions) / seconds);
+            t.crossings += static_cast<double>(result.cell_crossings);
+            t.collisions += static_cast<double>(result.collisions);
+            t.stale += static_cast<double>(result.stale_events);
             if (result.stuck) std::fprintf(stderr, "warning: run stuck\n");
           }
-          const std::string problem = sim.validate();
+        }
+        for (Timed& t : systems) {
+          const std::string problem = t.sim.validate();
           if (!problem.empty()) std::fprintf(stderr, "validation failed: %s\n", problem.c_str());
-          Row row{"engine", container, n, density, g != 0 ? 1 : 0, median(rates), crossings / std::max(collisions, 1.0),
-                  stale / std::max(collisions, 1.0),
-                  sim.memory_bytes() / static_cast<double>(n), setup};
+          Row row{"engine", container, n, t.density, g != 0 ? 1 : 0, median(t.rates),
+                  t.crossings / std::max(t.collisions, 1.0), t.stale / std::max(t.collisions, 1.0),
+                  t.sim.memory_bytes() / static_cast<double>(n), t.setup};
           rows.push_back(row);
           print(row);
         }
