@@ -3,9 +3,10 @@
 // For each N, area fraction, container (box, table, periodic) and gravity setting: discs of
 // radius 1 on a square lattice (so any density up to pi/4 is reachable without a slow random
 // placement), random Gaussian velocities, a warm-up of --warmup collisions per disc... then
-// --repeats timed runs of --events collisions each; the median rate is reported. "Collisions" are
-// disc-disc plus disc-wall events (cell crossings are counted apart). The course's all-pairs
-// propagate (O(N^2) per event) is timed at small N for comparison.
+// --repeats timed runs of --events collisions each (at one N the densities' runs take turns); the
+// median rate is reported. "Collisions" are disc-disc plus disc-wall events (cell crossings are
+// counted apart). The course's all-pairs propagate (O(N^2) per event) is timed at small N for
+// comparison.
 //
 //   billiard_bench [--n 100,1000,...] [--density 0.1,0.5] [--containers box,table,periodic]
 //                  [--gravity 0,1] [--repeats 5] [--events 1000000] [--course-n 100,1000]
