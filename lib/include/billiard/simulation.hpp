@@ -158,7 +158,8 @@ class Simulation {
   void set_validate_every_event(bool on);
   // The same checks for the discs each collision changed only (inside the container, off the
   // walls, in their cells, no overlap with any disc near them, next event not in the past):
-  // O(1) per event, for long runs. advance() stops at the first problem.
+  // O(1) per event, for long runs. advance() stops at the first problem. (With
+  // set_validate_every_event on as well, the full check runs.)
   void set_check_event_discs(bool on);
   const std::string& last_problem() const;
 

@@ -13,11 +13,11 @@
 #include "engine.hpp"
 
 #include "billiard/time_of_impact.hpp"
+#include "describe.hpp"
 
 #include <algorithm>
 #include <cassert>
 #include <cmath>
-#include <sstream>
 
 namespace billiard {
 
@@ -660,22 +660,12 @@ State Simulation::Engine::state_now() const {
   return state;
 }
 
-namespace {
-// A problem's description, numbers with all their digits (made only when a check fails).
-template <class... Parts>
-std::string describe(const Parts&... parts) {
-  std::ostringstream out;
-  out.precision(17);
-  (out << ... << parts);
-  return out.str();
-}
-}  // namespace
-
 // The checks of validate() for disc i at the current time: inside its container, off every wall,
 // in its cell, not overlapping a disc of the 3 x 3 cells around it, its next event not in the
-// past. `positions`: every disc's position now (validate() checks each pair once, from its lower
-// index), or null: the positions needed are computed and every neighbour is checked (the check
-// of the discs an event changed, O(1) per event).
+// past (a message is made only when a check fails). `positions`: every disc's position now
+// (validate() checks each pair once, from its lower index), or null: the positions needed are
+// computed and every neighbour is checked (the check of the discs an event changed, O(1) per
+// event).
 std::string Simulation::Engine::disc_problem(int i, double tolerance, const Vec2* positions) const {
   const auto at = [&](int j) -> Vec2 {
     if (positions) return positions[j];

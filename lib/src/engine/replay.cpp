@@ -1,8 +1,9 @@
 // Replay of a recorded run (billiard/replay.hpp). Uses only the public Simulation API.
 #include "billiard/replay.hpp"
 
+#include "describe.hpp"
+
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -75,10 +76,7 @@ State Replay::after_event(std::size_t k) {
 
 State Replay::at(double t) {
   if (!std::isfinite(t) || t < time_) {
-    std::ostringstream message;
-    message.precision(17);
-    message << "Replay::at: t must be finite and not before the previous time " << time_ << ", got " << t;
-    throw std::invalid_argument(message.str());
+    throw std::invalid_argument(describe("Replay::at: t must be finite and not before the previous time ", time_, ", got ", t));
   }
   const auto& log = simulation_->event_log();
   while (next_ < log.size() && log[next_].time <= t) apply(next_++);

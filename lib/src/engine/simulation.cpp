@@ -3,23 +3,18 @@
 #include "billiard/simulation.hpp"
 
 #include "billiard/replay.hpp"
+#include "describe.hpp"
 #include "engine.hpp"
 
 #include <algorithm>
 #include <random>
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 
 namespace billiard {
 namespace {
 
-std::string number(double x) {
-  std::ostringstream out;
-  out.precision(17);
-  out << x;
-  return out.str();
-}
+std::string number(double x) { return describe(x); }
 
 std::string vec(const Vec2& v) { return "(" + number(v.x()) + ", " + number(v.y()) + ")"; }
 
