@@ -130,6 +130,18 @@ mass (n,), radius (n,), inertia (n,). Bad input raises ValueError naming the dis
           "Uniform gravity (gx, gy); default (0, 0).")
       .def("set_restitution", &Simulation::set_restitution, py::arg("normal"), py::arg("tangential") = -1.0,
            "Coefficients of restitution: normal in [0, 1] (1 elastic), tangential in [-1, 1] (-1 smooth, +1 rough).")
+      .def("set_contact_duration", &Simulation::set_contact_duration, py::arg("duration"),
+           "Granular gases (restitution < 1), TC model: a collision less than `duration` after either disc's\n"
+           "previous collision is elastic, which stops an inelastic collapse. None: automatic (default,\n"
+           "1e-4 mean radius / rms speed at the first advance); 0: off. Energy never increases.")
+      .def("set_elastic_impact_speed", &Simulation::set_elastic_impact_speed, py::arg("speed"),
+           "Granular gases (restitution < 1): a collision whose normal approach speed is below `speed` is\n"
+           "elastic, so discs resting on a floor under gravity g bounce at most speed^2 / (2 g) high. None:\n"
+           "automatic (default: sqrt(2 |g| 0.05 mean radius), 0 without gravity); 0: off.")
+      .def_property_readonly("contact_duration", &Simulation::contact_duration,
+                             "The TC model's duration in use (chosen at the first advance when automatic).")
+      .def_property_readonly("elastic_impact_speed", &Simulation::elastic_impact_speed,
+                             "The elastic impact speed in use (chosen at the first advance when automatic).")
       .def("set_cell_size", &Simulation::set_cell_size, py::arg("size"),
            "Side of the cells (>= the largest diameter); 0 chooses it automatically (default).")
       .def(
@@ -183,11 +195,13 @@ mass (n,), radius (n,), inertia (n,). Bad input raises ValueError naming the dis
             d["stale_events"] = r.stale_events;
             d["elapsed"] = r.elapsed;
             d["stuck"] = r.stuck;
+            d["stuck_reason"] = r.stuck_reason;
             return d;
           },
           py::arg("events") = py::none(), py::arg("time") = py::none(),
           "Advances by `events` collisions or `time`, whichever comes first; returns counts (collisions,\n"
-          "disc_collisions, wall_collisions, cell_crossings, stale_events), elapsed and stuck.")
+          "disc_collisions, wall_collisions, cell_crossings, stale_events), elapsed, stuck and stuck_reason\n"
+          "(what happened when stuck; the state stays valid).")
       .def_property_readonly("time", &Simulation::time, "The current time.")
       .def("__len__", &Simulation::size, "Number of discs.")
       .def_property_readonly(

@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,7 @@ struct AdvanceResult {
   // because, with no duration limit, only cell crossings happened for a very long time (no
   // collision can happen, e.g. all discs moving in parallel in a periodic box).
   bool stuck = false;
+  std::string stuck_reason;  // what happened, when stuck; the state is valid and advance may go on
 };
 
 // Running totals since time 0, for pressure: PA = N kT + virial / (2 t) (physics notes) and the
@@ -85,6 +87,19 @@ class Simulation {
   // ---- Physics ----
   void set_gravity(const Vec2& g);                      // uniform, any direction; default 0
   void set_restitution(double normal, double tangential = -1.0);  // see collide.hpp
+  // Granular gases (normal restitution < 1). Inelastic collisions can come infinitely often in a
+  // finite time (inelastic collapse), and a disc settling on a floor under gravity bounces ever
+  // lower and faster: event-driven dynamics would stop there. Two rules, on by default, make such
+  // collisions elastic; they only ever switch dissipation off, so energy never increases:
+  //  - the TC model (Luding & McNamara 1998): a collision less than `duration` after the previous
+  //    collision of either disc is elastic, as if the two were one longer contact;
+  //  - slow impacts (Poschel & Schwager, Computational Granular Dynamics, ch. 3): a collision
+  //    whose contact points approach at less than `speed` along the normal is elastic, so that a
+  //    disc resting on a floor under gravity g bounces at most speed^2 / (2 g) high.
+  // std::nullopt chooses automatically at the first advance (see contact_duration()); 0 switches
+  // the rule off. Either may be changed at any time, like the restitution.
+  void set_contact_duration(std::optional<double> duration);
+  void set_elastic_impact_speed(std::optional<double> speed);
   // Cell side (>= the largest diameter); 0 = automatic (the default).
   void set_cell_size(double size);
   // Whether each event starts loading the data of the event expected after it (the discs' states
@@ -133,6 +148,13 @@ class Simulation {
   Eigen::VectorXd inertias() const;   // moments of inertia (mass x length^2)
   Vec2 gravity() const;
   Restitution restitution() const;
+  // The granular model's values in use (automatic ones are chosen at the first advance; 0 before
+  // it): automatic duration 1e-4 mean radius / rms speed (of the discs at the first advance; with
+  // gravity at least sqrt(mean radius / |g|)); automatic speed sqrt(2 |g| h) with h = kRestingBounce
+  // mean radii, and 0 without gravity.
+  double contact_duration() const;
+  double elastic_impact_speed() const;
+  static constexpr double kRestingBounce = 0.05;
   bool periodic() const;              // a periodic box (see period())
   Vec2 period() const;                // width and height of the periodic box; (0, 0) if none
   double table_radius() const;        // radius of the circular table; 0 if none

@@ -108,6 +108,7 @@ void Simulation::Engine::prepare() {
                    (prefetch_mode == Simulation::Prefetch::Automatic &&
                     static_cast<double>(n) * (sizeof(HotDisc) + sizeof(Scheduled)) > kCachedBytes);
   initial = state_now();
+  choose_granular_model();
   for (int i = 0; i < n; ++i) predict_full(i);  // (not scheduled yet: prepared is false)
   std::vector<int> tags(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) tags[i] = event_tag(i);
@@ -484,11 +485,13 @@ void Simulation::Engine::collide_pair(int i, int j) {
     const Vec2 sigma = dr.normalized();
     ContactBody bi{a.velocity, ca.spin, a.inverse_mass, ca.inverse_inertia, a.radius};
     ContactBody bj{b.velocity, cb.spin, b.inverse_mass, cb.inverse_inertia, b.radius};
-    q = collide(sigma, bi, bj, restitution);
+    const double approach = (a.velocity - b.velocity).dot(sigma);
+    q = collide(sigma, bi, bj, restitution_of(approach, ca.last_collision, cb.last_collision));
     a.velocity = bi.velocity;
     b.velocity = bj.velocity;
     ca.spin = bi.spin;
     cb.spin = bj.spin;
+    ca.last_collision = cb.last_collision = now;
   }
   totals.virial += -dr.dot(q);  // r_ij . dp_i with r_ij = r_i - r_j = -dr
   ++a.counter;
@@ -501,6 +504,17 @@ void Simulation::Engine::collide_wall(int i, int w) {
   const Wall& wall = walls[w];
   // Contact normal from the disc centre towards the wall.
   const Vec2 normal = wall.kind == WallKind::Circle ? Vec2(d.position - wall.a) : Vec2(closest_point(wall, d.position) - d.position);
+  // A disc found a rounding error into the wall is put back on it. Under gravity a disc resting
+  // there could otherwise never get clear: each collision would find it inside again, moving in.
+  if (has_gravity) {
+    const double distance = normal.norm();
+    const double reach = wall.kind == WallKind::Circle ? wall.radius - d.radius : d.radius;
+    if (wall.kind == WallKind::Circle && distance > reach) {
+      d.position += ((reach - distance) / distance) * normal;  // (normal points outwards here)
+    } else if (wall.kind != WallKind::Circle && distance < reach && distance > 0) {
+      d.position += ((distance - reach) / distance) * normal;  // (normal points at the wall)
+    }
+  }
   ColdDisc& c = cold[i];
   Vec2 q;
   if (smooth_elastic) {
@@ -512,12 +526,25 @@ void Simulation::Engine::collide_wall(int i, int w) {
     const Vec2 sigma = normal.normalized();
     ContactBody body{d.velocity, c.spin, d.inverse_mass, c.inverse_inertia, d.radius};
     ContactBody fixed{Vec2::Zero(), 0.0, 0.0, 0.0, 0.0};
-    q = collide(sigma, body, fixed, restitution);
+    q = collide(sigma, body, fixed, restitution_of(d.velocity.dot(sigma), c.last_collision, -kNever));
     d.velocity = body.velocity;
     c.spin = body.spin;
+    c.last_collision = now;
   }
   totals.wall_momentum += q.norm();
   ++d.counter;
+}
+
+// The restitution of one collision, whose contact points approach at `approach_speed` along the
+// normal, between bodies whose previous collisions were at last_i and last_j: the one set, unless
+// the granular model makes the collision elastic (Simulation::set_contact_duration and
+// set_elastic_impact_speed). Elastic means no dissipation at all, tangential included, so the
+// model can only take dissipation away, never add energy.
+Restitution Simulation::Engine::restitution_of(double approach_speed, double last_i, double last_j) const {
+  const bool recent = now - std::max(last_i, last_j) < contact_duration;
+  if (!recent && !(approach_speed < elastic_impact_speed)) return restitution;
+  const bool conserving = restitution.tangential == 1 || restitution.tangential == -1;
+  return Restitution{1.0, conserving ? restitution.tangential : -1.0};
 }
 
 void Simulation::Engine::record(EventKind kind, int i, int other, int wall) {
@@ -556,6 +583,19 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
       if (end < kNever) now = end;
       break;
     }
+    // (Checked before the pop, so that a stop leaves every disc's event in the queue.)
+    if (top.time == last_time) {
+      if (++same_instant > stuck_limit) {
+        result.stuck = true;
+        result.stuck_reason = describe("stuck at time ", now, ": more than ", stuck_limit,
+                                       " events at that instant (discs resting on each other or on a wall under "
+                                       "gravity, or an inelastic collapse); the state is valid");
+        break;
+      }
+    } else {
+      same_instant = 0;
+      last_time = top.time;
+    }
     queue.pop();
     const int i = top.disc;
     Scheduled& s = scheduled[i];
@@ -581,15 +621,6 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
         }
       }
     }
-    if (top.time == last_time) {
-      if (++same_instant > stuck_limit) {
-        result.stuck = true;
-        break;
-      }
-    } else {
-      same_instant = 0;
-      last_time = top.time;
-    }
     now = top.time;
     if (crossing) {
       cross(i);
@@ -599,6 +630,9 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
       // in a row, far more than any gas needs between two collisions.
       if (++crossings_in_a_row > crossing_limit && end == kNever) {
         result.stuck = true;
+        result.stuck_reason = describe("stuck at time ", now, ": ", crossing_limit,
+                                       " cell crossings in a row and no collision (no collision may ever happen); "
+                                       "give advance a duration");
         break;
       }
       continue;

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -40,12 +41,14 @@ struct HotDisc {
   std::uint16_t cy;       //  2: cx + nx cy; grids have at most 65535 cells per side)
 };
 
-// Cold state: 32 bytes, touched only at wall and rough collisions and by the state accessors.
+// Cold state: 40 bytes, touched only at wall, rough and inelastic collisions and by the state
+// accessors.
 struct ColdDisc {
   double mass;
   double inertia;
   double inverse_inertia;
   double spin;
+  double last_collision;  // time of the disc's previous collision (-infinity: none), for the TC model
 };
 
 // What a disc expects next: its earliest contact (disc or wall) as found when predicted, and the
@@ -88,6 +91,12 @@ struct Simulation::Engine {
   bool has_gravity = false;
   Restitution restitution;
   bool smooth_elastic = true;
+  // The granular model (see Simulation::set_contact_duration): as set (nullopt: automatic), and
+  // the values in use, chosen at the first advance.
+  std::optional<double> contact_duration_setting;
+  std::optional<double> elastic_impact_speed_setting;
+  double contact_duration = 0.0;
+  double elastic_impact_speed = 0.0;
   double cell_size = 0.0;  // 0: automatic
 
   // ---- discs ----
@@ -133,6 +142,8 @@ struct Simulation::Engine {
   void cross(int i);
   void collide_pair(int i, int j);
   void collide_wall(int i, int wall);
+  Restitution restitution_of(double approach_speed, double last_i, double last_j) const;
+  void choose_granular_model();
   double wall_time(const Wall& wall, const Vec2& r, const Vec2& v, double radius) const;
   void scan_cell(int i, int cx, int cy, const Vec2& r, const Vec2& v, Scheduled& s) const;
   void scan_listed(int i, const int* list, int m, const Vec2& r, const Vec2& v, Scheduled& s) const;

@@ -137,6 +137,7 @@ void Simulation::Engine::add_checked_disc(const Disc& disc) {
   c.inertia = disc.inertia ? *disc.inertia : 0.5 * disc.mass * disc.radius * disc.radius;
   c.inverse_inertia = 1.0 / c.inertia;
   c.spin = disc.spin;
+  c.last_collision = -kNever;
   cold.push_back(c);
   scheduled.push_back(Scheduled{kNever, kNever, kNoPartner, 0, kNoWall, 0});
   const int i = static_cast<int>(hot.size()) - 1;
@@ -291,6 +292,46 @@ void Simulation::set_restitution(double normal, double tangential) {
   Engine& e = *engine_;
   e.restitution = Restitution{normal, tangential};
   e.smooth_elastic = normal == 1 && tangential == -1;
+}
+
+namespace {
+// A granular model parameter: automatic (nullopt), or >= 0 and finite.
+void check_granular(const char* call, const char* name, const std::optional<double>& value) {
+  if (value && (!(*value >= 0) || !std::isfinite(*value))) {
+    refuse(std::string(call) + ": " + name + " must be >= 0 and finite (0 = off), or automatic, got " + number(*value));
+  }
+}
+}  // namespace
+
+void Simulation::set_contact_duration(std::optional<double> duration) {
+  check_granular("set_contact_duration", "duration", duration);
+  engine_->contact_duration_setting = duration;
+  if (engine_->prepared) engine_->choose_granular_model();
+}
+
+void Simulation::set_elastic_impact_speed(std::optional<double> speed) {
+  check_granular("set_elastic_impact_speed", "speed", speed);
+  engine_->elastic_impact_speed_setting = speed;
+  if (engine_->prepared) engine_->choose_granular_model();
+}
+
+// The automatic values are scaled by the discs (mean radius, rms speed now) and gravity.
+void Simulation::Engine::choose_granular_model() {
+  double radius = 0, squared_speed = 0;
+  const int n = static_cast<int>(hot.size());
+  for (int i = 0; i < n; ++i) {
+    HotDisc d = hot[i];
+    advance_disc(d, now);
+    radius += d.radius / n;
+    squared_speed += d.velocity.squaredNorm() / n;
+  }
+  const double g = gravity.norm();
+  // Time for a typical disc to move 1e-4 of its radius: far below the mean free time, so a dilute
+  // flow keeps all its dissipation (Luding & McNamara use such values).
+  double time_scale = squared_speed > 0 ? radius / std::sqrt(squared_speed) : 0.0;
+  if (g > 0) time_scale = std::max(time_scale, std::sqrt(radius / g));
+  contact_duration = contact_duration_setting.value_or(1e-4 * time_scale);
+  elastic_impact_speed = elastic_impact_speed_setting.value_or(std::sqrt(2 * g * kRestingBounce * radius));
 }
 
 void Simulation::set_cell_size(double size) {
@@ -516,6 +557,8 @@ Eigen::VectorXd Simulation::inertias() const { return column(engine_->cold, &Col
 
 Vec2 Simulation::gravity() const { return engine_->gravity; }
 Restitution Simulation::restitution() const { return engine_->restitution; }
+double Simulation::contact_duration() const { return engine_->contact_duration; }
+double Simulation::elastic_impact_speed() const { return engine_->elastic_impact_speed; }
 bool Simulation::periodic() const { return engine_->periodic; }
 Vec2 Simulation::period() const { return engine_->periodic ? engine_->period : Vec2::Zero(); }
 double Simulation::table_radius() const { return engine_->has_table ? engine_->table_radius : 0.0; }

@@ -156,7 +156,10 @@ double disc_point_time(const Vec2& r, const Vec2& v, const Vec2& g, const Vec2& 
   const QuadraticRoots bound = solve_quadratic(0.5 * g.norm(), -v.norm(), -(d.norm() + radius));
   const double t_max = bound.hi;
   const double poly[5] = {f0, df0, v.squaredNorm() + d.dot(g), v.dot(g), 0.25 * g.squaredNorm()};
-  return first_polynomial_crossing(poly, 4, t_max, false);
+  const double t = first_polynomial_crossing(poly, 4, t_max, false);
+  // A hair inside the point, moving out too slowly to get clear before gravity brings it back:
+  // it stays in contact, so collide now (as a convex penetration that never vanishes).
+  return t == kNever && f0 <= 0 ? 0.0 : t;
 }
 
 double disc_in_circle_time(const Vec2& r, const Vec2& v, const Vec2& g, double reach) {
@@ -180,7 +183,10 @@ double disc_in_circle_time(const Vec2& r, const Vec2& v, const Vec2& g, double r
   // reach, so f(t_max) >= 0 and the crossing lies in [0, t_max].
   const QuadraticRoots bound = solve_quadratic(0.5 * g.norm(), -v.norm(), -(r.norm() + reach));
   const double poly[5] = {C, 2 * B, second, v.dot(g), 0.25 * g.squaredNorm()};
-  return first_polynomial_crossing(poly, 4, bound.hi, true);
+  const double t = first_polynomial_crossing(poly, 4, bound.hi, true);
+  // A hair outside, moving in too slowly to get clear before gravity brings it back out: it stays
+  // in contact, so collide now (as a convex penetration that never vanishes).
+  return t == kNever && C >= 0 ? 0.0 : t;
 }
 
 double disc_segment_time(const Vec2& r, const Vec2& v, const Vec2& g, const Vec2& a, const Vec2& b,

@@ -1,0 +1,345 @@
+// Granular gases (normal restitution < 1): the collision rules of the granular model, a bed
+// settling under gravity, a freely cooling gas against Haff's law, the three-disc inelastic
+// collapse, and a run that does get stuck (model off) leaving a valid state.
+#include "billiard/simulation.hpp"
+#include "helpers.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+using billiard::kAllEvents;
+using billiard::Vec2;
+using engine_test::make_disc;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double total_energy(const billiard::Simulation& sim) { return sim.kinetic_energy() + sim.potential_energy(); }
+
+// Two discs of radius 1 on the x axis in a large box, approaching head-on at relative speed u;
+// returns their relative speed after their collision.
+double speed_after_head_on(double u, double restitution, double elastic_impact_speed) {
+  billiard::Simulation sim;
+  sim.add_box(Vec2(-100, -100), Vec2(100, 100));
+  sim.add_disc(make_disc(Vec2(-5, 0), Vec2(u / 2, 0)));
+  sim.add_disc(make_disc(Vec2(5, 0), Vec2(-u / 2, 0)));
+  sim.set_restitution(restitution);
+  sim.set_elastic_impact_speed(elastic_impact_speed);
+  sim.advance(1);
+  const billiard::State s = sim.current_state();
+  return s.velocities(1, 0) - s.velocities(0, 0);
+}
+
+}  // namespace
+
+TEST(Granular, SlowImpactsAreElasticAndFastOnesDissipate) {
+  // Elastic impact speed 1, restitution 0.5: at relative speed 0.8 the collision is elastic
+  // (0.8 after), at 1.2 it keeps half (0.6 after).
+  EXPECT_NEAR(speed_after_head_on(0.8, 0.5, 1.0), 0.8, 1e-14);
+  EXPECT_NEAR(speed_after_head_on(1.2, 0.5, 1.0), 0.6, 1e-14);
+  EXPECT_NEAR(speed_after_head_on(0.8, 0.5, 0.0), 0.4, 1e-14);  // rule off
+}
+
+TEST(Granular, CollisionSoonAfterAnotherIsElasticInTheTcModel) {
+  // Disc A (radius 1) at x = 3 moves left at speed 1: it hits the wall x = 0 at t = 2 (the first
+  // collision of each disc is always dissipative: it bounces at 0.5), then reaches disc B, at rest
+  // at x = 10, when it has covered 7 at speed 0.5: at t = 16, 14 after its wall hit. With a
+  // contact duration of 20 that collision is elastic (A stops, B takes 0.5); with 10 it keeps half
+  // of the relative speed (A 0.125, B 0.375).
+  for (const double duration : {20.0, 10.0}) {
+    billiard::Simulation sim;
+    sim.add_box(Vec2(0, 0), Vec2(100, 100));
+    sim.add_disc(make_disc(Vec2(3, 50), Vec2(-1, 0)));
+    sim.add_disc(make_disc(Vec2(10, 50), Vec2(0, 0)));
+    sim.set_restitution(0.5);
+    sim.set_contact_duration(duration);
+    sim.advance(2);
+    EXPECT_NEAR(sim.time(), 16.0, 1e-12);
+    const billiard::State s = sim.current_state();
+    const bool elastic = duration > 14;
+    EXPECT_NEAR(s.velocities(0, 0), elastic ? 0.0 : 0.125, 1e-14) << "contact duration " << duration;
+    EXPECT_NEAR(s.velocities(1, 0), elastic ? 0.5 : 0.375, 1e-14) << "contact duration " << duration;
+  }
+}
+
+TEST(Granular, AutomaticValuesAndRefusals) {
+  billiard::Simulation sim;
+  sim.set_periodic_box(50, 50);
+  sim.add_random_discs(100, 0.5, 1.0, 2.0, 3);  // kT = 2: rms speed 2 (2D, mass 1)
+  sim.set_restitution(0.7);
+  for (const double bad : {-1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    EXPECT_THROW(sim.set_contact_duration(bad), std::invalid_argument);
+    EXPECT_THROW(sim.set_elastic_impact_speed(bad), std::invalid_argument);
+  }
+  try {
+    sim.set_contact_duration(-1.0);
+  } catch (const std::invalid_argument& refused) {
+    EXPECT_NE(std::string(refused.what()).find("duration"), std::string::npos) << refused.what();
+  }
+  sim.advance(10);
+  // 1e-4 mean radius / rms speed; no gravity: the slow-impact rule is off.
+  EXPECT_NEAR(sim.contact_duration(), 1e-4 * 0.5 / 2.0, 1e-15);
+  EXPECT_EQ(sim.elastic_impact_speed(), 0.0);
+  sim.set_contact_duration(0.25);  // may change while running, like the restitution
+  EXPECT_EQ(sim.contact_duration(), 0.25);
+
+  billiard::Simulation falling;
+  falling.add_box(Vec2(0, 0), Vec2(20, 20));
+  falling.set_gravity(Vec2(0, -4));
+  falling.add_disc(make_disc(Vec2(10, 10), Vec2(0, 0), 2.0));
+  falling.advance(1);
+  // sqrt(2 |g| h), h = kRestingBounce mean radii; at rest, the duration scales with sqrt(a / |g|).
+  EXPECT_NEAR(falling.elastic_impact_speed(), std::sqrt(2 * 4.0 * billiard::Simulation::kRestingBounce * 2.0), 1e-15);
+  EXPECT_NEAR(falling.contact_duration(), 1e-4 * std::sqrt(2.0 / 4.0), 1e-18);
+}
+
+// ---------------------------------------------------------------------------------------------
+// A bed settling under gravity: N = 1,000 discs of radius 1, g = (0, -1), from a random gas at
+// kT = 1, to t = 200. With the granular model on (the default), every run must reach t = 200
+// with the discs of every collision checked, the total energy must never rise (tolerance 1e-12
+// of the initial energy per time unit checked, for rounding), the collision rate must level off,
+// and the bed must end as dense as a packed bed.
+// ---------------------------------------------------------------------------------------------
+
+struct Settling {
+  const char* container;  // "box" or "table"
+  double restitution;
+};
+
+class GranularSettling : public testing::TestWithParam<Settling> {};
+
+namespace {
+
+// The area fraction of a uniformly packed bed whose centre of mass is as high as the discs'
+// (mean height y of the centres): in the box of width w with its floor at 0, the bed fills
+// [0, 2y]; in the table of radius r, a circular segment with its centroid at y (below the
+// centre). A hexagonal bed is 0.9069, a random close packing of discs about 0.84.
+double bed_area_fraction(const Settling& p, int n, double width, double table_radius, double mean_y) {
+  const double discs = n * kPi;
+  if (std::string(p.container) == "box") return discs / (width * 2 * mean_y);
+  // Segment of central angle theta: area r^2 (theta - sin theta) / 2, centroid at
+  // -4 r sin^3(theta / 2) / (3 (theta - sin theta)), rising with theta.
+  const double r = table_radius;
+  double lo = 1e-6, hi = 2 * kPi;
+  for (int k = 0; k < 200; ++k) {
+    const double theta = 0.5 * (lo + hi);
+    const double centroid = -4 * r * std::pow(std::sin(theta / 2), 3) / (3 * (theta - std::sin(theta)));
+    (centroid < mean_y ? lo : hi) = theta;
+  }
+  return discs / (0.5 * r * r * (lo - std::sin(lo)));
+}
+
+}  // namespace
+
+TEST_P(GranularSettling, ReachesTheEndValidNeverGainingEnergyAndPacks) {
+  const Settling p = GetParam();
+  const int n = 1000;
+  // Starting area fraction about 0.3. The box is 60.5 wide, not a whole number of diameters, so
+  // its bottom row has room (see the README on rows that exactly fill a box).
+  const double width = 60.5, table_radius = 58;
+  billiard::Simulation sim;
+  if (std::string(p.container) == "box") {
+    sim.add_box(Vec2(0, 0), Vec2(width, 175));
+  } else {
+    sim.set_circular_table(table_radius);
+  }
+  sim.set_gravity(Vec2(0, -1));
+  sim.add_random_discs(n, 1.0, 1.0, 1.0, 11);
+  sim.set_restitution(p.restitution);
+  sim.set_check_event_discs(true);
+  const double tolerance = 1e-12 * std::abs(total_energy(sim));
+  double energy = total_energy(sim);
+  std::vector<std::int64_t> collisions;  // per time unit
+  while (sim.time() < 200) {
+    const billiard::AdvanceResult r = sim.advance(kAllEvents, 1.0);
+    ASSERT_FALSE(r.stuck) << r.stuck_reason;
+    ASSERT_EQ(sim.last_problem(), "") << "at time " << sim.time();
+    const double now = total_energy(sim);
+    ASSERT_LE(now, energy + tolerance) << "the total energy rose at time " << sim.time();
+    energy = now;
+    collisions.push_back(r.collisions);
+  }
+  EXPECT_NEAR(sim.time(), 200.0, 1e-9);
+  EXPECT_EQ(sim.validate(), "");
+  // The rate levels off: the last 50 time units cost at most 1.5 times the 50 before them.
+  std::int64_t third = 0, last = 0;
+  for (int t = 100; t < 150; ++t) third += collisions[static_cast<std::size_t>(t)];
+  for (int t = 150; t < 200; ++t) last += collisions[static_cast<std::size_t>(t)];
+  EXPECT_LE(last, 1.5 * third) << "collisions in [100, 150): " << third << ", in [150, 200): " << last;
+  // Packed: the potential energy is that of a bed between area fraction 0.8 and hexagonal
+  // packing (0.9069; 0.93 allows for the continuum estimate of the bed's height).
+  const double mean_y = sim.potential_energy() / n;  // (mass 1, |g| = 1)
+  const double fraction = bed_area_fraction(p, n, width, table_radius, mean_y);
+  EXPECT_GE(fraction, 0.80) << "mean height " << mean_y;
+  EXPECT_LE(fraction, 0.93) << "mean height " << mean_y;
+  std::printf("settling %s e = %.2f: %lld collisions to t = 200, %.0f per disc per time unit at the end, "
+              "bed area fraction %.3f\n",
+              p.container, p.restitution, static_cast<long long>(sim.totals().disc_collisions + sim.totals().wall_collisions),
+              static_cast<double>(last) / 50 / n, fraction);
+}
+
+INSTANTIATE_TEST_SUITE_P(Beds, GranularSettling,
+                         testing::Values(Settling{"box", 0.5}, Settling{"box", 0.8}, Settling{"box", 0.95},
+                                         Settling{"table", 0.5}, Settling{"table", 0.8}, Settling{"table", 0.95}),
+                         [](const testing::TestParamInfo<Settling>& info) {
+                           return std::string(info.param.container) + "_restitution_" +
+                                  std::to_string(static_cast<int>(std::lround(info.param.restitution * 100)));
+                         });
+
+TEST(Granular, FreelyCoolingGasFollowsHaffsLaw) {
+  // Homogeneous cooling (Haff): T(tau) = T0 exp(-(1 - e^2) tau / 2), tau the collisions per disc.
+  // e = 0.9, area fraction 0.05, N = 10,000: within 5% up to tau = 20 (measured: 2%; the gas
+  // slowly leaves the homogeneous state as clusters start to form).
+  const int n = 10000;
+  const double e = 0.9, side = std::sqrt(n * kPi / 0.05);
+  billiard::Simulation sim;
+  sim.set_periodic_box(side, side);
+  sim.add_random_discs(n, 1.0, 1.0, 1.0, 5);
+  sim.set_restitution(e);
+  const double t0 = sim.kinetic_energy();
+  std::int64_t disc_collisions = 0;
+  for (int step = 1; step <= 8; ++step) {
+    const billiard::AdvanceResult r = sim.advance(12500);
+    disc_collisions += r.disc_collisions;
+    const double tau = 2.0 * static_cast<double>(disc_collisions) / n;
+    const double haff = std::exp(-(1 - e * e) * tau / 2);
+    EXPECT_NEAR(sim.kinetic_energy() / t0 / haff, 1.0, 0.05) << "tau = " << tau;
+  }
+}
+
+TEST(Granular, FreelyCoolingDenseGasReaches100CollisionsPerDiscValid) {
+  // e = 0.5, area fraction 0.3, N = 10,000 in a periodic box: the gas clusters and would collapse
+  // without the TC model. 100 collisions per disc, every collision's discs checked, the kinetic
+  // energy never rising, validate() clean every 10 collisions per disc.
+  const int n = 10000;
+  const double side = std::sqrt(n * kPi / 0.3);
+  billiard::Simulation sim;
+  sim.set_periodic_box(side, side);
+  sim.add_random_discs(n, 1.0, 1.0, 1.0, 3);
+  sim.set_restitution(0.5);
+  sim.set_check_event_discs(true);
+  double energy = sim.kinetic_energy();
+  std::int64_t disc_collisions = 0;
+  while (2 * disc_collisions < 100LL * n) {
+    const billiard::AdvanceResult r = sim.advance(50000);
+    ASSERT_FALSE(r.stuck) << r.stuck_reason;
+    ASSERT_EQ(sim.last_problem(), "");
+    ASSERT_EQ(sim.validate(), "");
+    ASSERT_LE(sim.kinetic_energy(), energy * (1 + 1e-12));
+    energy = sim.kinetic_energy();
+    disc_collisions += r.disc_collisions;
+  }
+  EXPECT_GT(sim.contact_duration(), 0.0);
+}
+
+namespace {
+
+// Three discs in a channel 2.2 wide (one disc across): the left one at speed 1 towards two at
+// rest, restitution 0.05, below the three-body collapse threshold 7 - 4 sqrt(3) = 0.072
+// (McNamara & Young 1994). Returns the collision times up to t = 20.
+std::vector<double> three_disc_channel(std::optional<double> contact_duration, billiard::Simulation& sim) {
+  sim.add_box(Vec2(0, 0), Vec2(100, 2.2));
+  sim.add_disc(make_disc(Vec2(10, 1.1), Vec2(1, 0)));
+  sim.add_disc(make_disc(Vec2(12.5, 1.1), Vec2(0, 0)));
+  sim.add_disc(make_disc(Vec2(15, 1.1), Vec2(0, 0)));
+  sim.set_restitution(0.05);
+  sim.set_contact_duration(contact_duration);
+  sim.enable_event_log(true);
+  const billiard::AdvanceResult r = sim.advance(1000000, 20.0);
+  EXPECT_FALSE(r.stuck) << r.stuck_reason;
+  std::vector<double> times;
+  for (const billiard::EventRecord& event : sim.event_log()) times.push_back(event.time);
+  return times;
+}
+
+}  // namespace
+
+TEST(Granular, ThreeDiscCollapseInANarrowChannel) {
+  // Without the model: the collapse. Intervals between collisions shrink by a constant factor
+  // (the ratio settles to within 1e-3) until they reach rounding.
+  billiard::Simulation bare;
+  const std::vector<double> collapse = three_disc_channel(0.0, bare);
+  ASSERT_GE(collapse.size(), 20u);
+  double smallest = collapse[1] - collapse[0];
+  double ratio = 0;
+  int steady = 0, longest = 0;
+  for (std::size_t k = 2; k < collapse.size(); ++k) {
+    const double before = collapse[k - 1] - collapse[k - 2], now = collapse[k] - collapse[k - 1];
+    smallest = std::min(smallest, now);
+    if (before > 0 && now > 0) {
+      const double r = now / before;
+      steady = std::abs(r - ratio) < 1e-3 && r < 1 ? steady + 1 : 0;
+      longest = std::max(longest, steady);
+      ratio = r;
+    }
+  }
+  EXPECT_LT(smallest, 1e-12) << "no collapse without the model";
+  EXPECT_GE(longest, 5) << "intervals should shrink geometrically";
+
+  // With the model (the default): a handful of collisions, a valid state, momentum kept (the
+  // discs move together at 1/3), and the energy of a perfectly inelastic merger, 1/6, not more.
+  billiard::Simulation sim;
+  const std::vector<double> handled = three_disc_channel(std::nullopt, sim);
+  EXPECT_LE(handled.size(), 20u);
+  EXPECT_EQ(sim.validate(), "");
+  const billiard::State s = sim.current_state();
+  EXPECT_NEAR(s.velocities.col(0).sum(), 1.0, 1e-12);
+  EXPECT_LE(sim.kinetic_energy(), 0.5);
+  EXPECT_NEAR(sim.kinetic_energy(), 1.0 / 6, 1e-3);
+}
+
+TEST(Granular, StuckRunLeavesAValidStateAndSaysWhy) {
+  // The model off, a bed in a box under gravity collapses: the run stops and says why, and every
+  // disc still has its event in the queue, so validate() is clean after it and after each further
+  // advance (which stops again at once: the discs have collapsed to rounding).
+  billiard::Simulation sim;
+  sim.add_box(Vec2(0, 0), Vec2(40, 40));
+  sim.set_gravity(Vec2(0, -1));
+  sim.add_random_discs(200, 1.0, 1.0, 1.0, 7);
+  sim.set_restitution(0.8);
+  sim.set_contact_duration(0.0);
+  sim.set_elastic_impact_speed(0.0);
+  const billiard::AdvanceResult r = sim.advance(kAllEvents, 50.0);
+  ASSERT_TRUE(r.stuck) << "expected the collapse to stop the run";
+  EXPECT_NE(r.stuck_reason.find("stuck at time"), std::string::npos) << r.stuck_reason;
+  EXPECT_EQ(sim.validate(), "");
+  for (int again = 0; again < 3; ++again) {
+    const billiard::AdvanceResult next = sim.advance(kAllEvents, 50.0);
+    EXPECT_EQ(sim.validate(), "") << "after advance number " << again + 2;
+    EXPECT_EQ(next.stuck, !next.stuck_reason.empty());
+  }
+}
+
+TEST(Granular, StoppingAndGoingOnChangesNothing) {
+  // A settling granular bed run in pieces (stopped by collision counts and by durations) ends
+  // bit for bit where one uninterrupted run does: a stop changes no disc and no model state.
+  auto make = [] {
+    billiard::Simulation sim;
+    sim.set_circular_table(22);
+    sim.set_gravity(Vec2(0, -1));
+    sim.add_random_discs(200, 1.0, 1.0, 1.0, 7);
+    sim.set_restitution(0.8);
+    return sim;
+  };
+  billiard::Simulation whole = make();
+  whole.advance(kAllEvents, 20.0);
+  billiard::Simulation pieces = make();
+  for (int k = 0; k < 20; ++k) {
+    pieces.advance(1000);
+    pieces.advance(kAllEvents, 20.0 - pieces.time() < 0.37 ? 20.0 - pieces.time() : 0.37);
+  }
+  pieces.advance(kAllEvents, 20.0 - pieces.time());
+  ASSERT_EQ(pieces.time(), whole.time());
+  EXPECT_EQ(pieces.totals().disc_collisions, whole.totals().disc_collisions);
+  EXPECT_TRUE(pieces.current_state().positions == whole.current_state().positions);
+  EXPECT_TRUE(pieces.current_state().velocities == whole.current_state().velocities);
+  EXPECT_EQ(pieces.validate(), "");
+}
