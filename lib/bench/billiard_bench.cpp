@@ -11,7 +11,12 @@
 //   billiard_bench [--n 100,1000,...] [--density 0.1,0.5] [--containers box,table,periodic]
 //                  [--gravity 0,1] [--repeats 5] [--events 1000000] [--course-n 100,1000]
 //                  [--cell SIZE] [--prefetch auto|on|off] [--json FILE] [--wall]
+//   billiard_bench --granular 0.5,0.8 [--n 1000] [--containers box,table] [--settle-time 200]
 //   billiard_bench --memory 1,4,16,256
+// --granular times, instead, beds settling under gravity g = (0, -1): N discs of radius 1 at random
+// places (area fraction 0.3), kT = 1, the given restitutions, the granular model at its defaults,
+// run to --settle-time in quarters. It prints collisions per second and the collisions per disc
+// per unit of simulated time in each quarter, which level off once the bed has formed.
 // Rates are per second of this thread's CPU time (--wall: elapsed time instead). --memory prints,
 // instead, what this machine's memory does for one thread with arrays of the given sizes (MB),
 // allocated like the engine's: the latency of one random cache-line read that depends on the
@@ -49,6 +54,37 @@ double now_seconds() {
   timespec t{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// One granular settling run (see --granular above): prints its row.
+void granular_settling(const std::string& container, long n, double restitution, double duration) {
+  const double kPi = 3.14159265358979323846;
+  const double area = static_cast<double>(n) * kPi / 0.3;
+  billiard::Simulation sim;
+  if (container == "box") {
+    // About 2.9 times as high as wide, and not a whole number of diameters wide (a bottom row that
+    // exactly fills the floor has no room and rattles ever faster: see the README).
+    const double width = 2 * std::floor(std::sqrt(area / 2.9) / 2) + 0.5;
+    sim.add_box(Vec2(0, 0), Vec2(width, area / width));
+  } else {
+    sim.set_circular_table(std::sqrt(area / kPi));
+  }
+  sim.set_gravity(Vec2(0, -1));
+  sim.add_random_discs(static_cast<int>(n), 1.0, 1.0, 1.0, 11);
+  sim.set_restitution(restitution);
+  const double start = now_seconds();
+  double collisions = 0;
+  std::printf("%-9s %9ld %11.2f", container.c_str(), n, restitution);
+  for (int quarter = 0; quarter < 4; ++quarter) {
+    const billiard::AdvanceResult r = sim.advance(billiard::kAllEvents, duration / 4);
+    collisions += static_cast<double>(r.collisions);
+    std::printf(" %10.0f", static_cast<double>(r.collisions) / (duration / 4) / static_cast<double>(n));
+    if (r.stuck) std::fprintf(stderr, "warning: %s\n", r.stuck_reason.c_str());
+  }
+  const std::string problem = sim.validate();
+  if (!problem.empty()) std::fprintf(stderr, "validation failed: %s\n", problem.c_str());
+  std::printf(" %14.0f %12.0f\n", collisions / (now_seconds() - start), collisions);
+  std::fflush(stdout);
 }
 
 std::vector<double> parse_list(const std::string& text) {
@@ -194,6 +230,8 @@ int main(int argc, char** argv) {
   double cell = 0;
   std::string json;
   std::vector<double> memory_sizes;
+  std::vector<double> granular;
+  double settle_time = 200;
   for (int k = 1; k < argc; ++k) {
     const std::string arg = argv[k];
     auto value = [&]() -> std::string {
@@ -226,6 +264,8 @@ int main(int argc, char** argv) {
       else if (arg == "--json") json = value();
       else if (arg == "--wall") use_wall_clock = true;
       else if (arg == "--memory") memory_sizes = parse_list(value());
+      else if (arg == "--granular") granular = parse_list(value());
+      else if (arg == "--settle-time") settle_time = std::stod(value());
       else if (arg != "--help") {
         std::cerr << "billiard_bench: unknown option '" << arg << "' (--help lists the options)\n";
         return 2;
@@ -234,6 +274,8 @@ int main(int argc, char** argv) {
                      "                      [--gravity 0,1] [--repeats R] [--events E] [--warmup W]\n"
                      "                      [--course-n LIST] [--cell SIZE] [--prefetch auto|on|off]\n"
                      "                      [--json FILE] [--wall]\n"
+                     "       billiard_bench --granular LIST_OF_RESTITUTIONS [--n LIST] [--containers box,table]\n"
+                     "                      [--settle-time T]\n"
                      "       billiard_bench --memory LIST_OF_MEGABYTES\n";
         return 0;
       }
@@ -252,6 +294,29 @@ int main(int argc, char** argv) {
     }
     std::printf("%10s %14s %18s\n", "array MB", "latency ns", "random lines M/s");
     for (double megabytes : memory_sizes) memory_probe(megabytes);
+    return 0;
+  }
+  if (!granular.empty()) {
+    for (double e : granular) {
+      if (!(e >= 0 && e <= 1)) {
+        std::cerr << "billiard_bench: --granular takes restitutions in [0, 1], got " << e << "\n";
+        return 2;
+      }
+    }
+    if (!(settle_time > 0 && settle_time < 1e6)) {
+      std::cerr << "billiard_bench: --settle-time must be positive (and below 1e6), got " << settle_time << "\n";
+      return 2;
+    }
+    std::printf("granular settling to t = %g, g = (0, -1): collisions per disc per time unit by quarter\n",
+                settle_time);
+    std::printf("%-9s %9s %11s %10s %10s %10s %10s %14s %12s\n", "container", "N", "restitution", "1st", "2nd",
+                "3rd", "4th", "collisions/s", "collisions");
+    for (const std::string& container : containers) {
+      if (container == "periodic") continue;  // (no floor)
+      for (double nd : ns) {
+        for (double e : granular) granular_settling(container, static_cast<long>(nd), e, settle_time);
+      }
+    }
     return 0;
   }
   std::mt19937_64 rng(12345);

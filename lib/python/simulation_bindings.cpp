@@ -133,7 +133,8 @@ mass (n,), radius (n,), inertia (n,). Bad input raises ValueError naming the dis
       .def("set_contact_duration", &Simulation::set_contact_duration, py::arg("duration"),
            "Granular gases (restitution < 1), TC model: a collision less than `duration` after either disc's\n"
            "previous collision is elastic, which stops an inelastic collapse. None: automatic (default,\n"
-           "1e-4 mean radius / rms speed at the first advance); 0: off. Energy never increases.")
+           "1e-4 mean radius / rms speed at the first advance, under gravity at least 0.01 sqrt(radius / |g|));\n"
+           "0: off. Energy never increases.")
       .def("set_elastic_impact_speed", &Simulation::set_elastic_impact_speed, py::arg("speed"),
            "Granular gases (restitution < 1): a collision whose normal approach speed is below `speed` is\n"
            "elastic, so discs resting on a floor under gravity g bounce at most speed^2 / (2 g) high. None:\n"

@@ -149,9 +149,9 @@ class Simulation {
   Vec2 gravity() const;
   Restitution restitution() const;
   // The granular model's values in use (automatic ones are chosen at the first advance; 0 before
-  // it): automatic duration 1e-4 mean radius / rms speed (of the discs at the first advance; with
-  // gravity at least sqrt(mean radius / |g|)); automatic speed sqrt(2 |g| h) with h = kRestingBounce
-  // mean radii, and 0 without gravity.
+  // it). Automatic duration: 1e-4 mean radius / rms speed (of the discs at the first advance),
+  // under gravity at least 0.01 sqrt(mean radius / |g|). Automatic speed: sqrt(2 |g| h) with
+  // h = kRestingBounce mean radii, and 0 without gravity.
   double contact_duration() const;
   double elastic_impact_speed() const;
   static constexpr double kRestingBounce = 0.05;

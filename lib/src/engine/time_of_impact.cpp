@@ -60,7 +60,10 @@ double horner(const double* p, int degree, double t) {
 // adjacent doubles. Returns the end on the far side of the root (where p has the sign of p(hi)),
 // so that the caller's event happens at contact or a rounding error after it.
 double bisect(const double* p, int degree, double lo, double hi, double f_lo) {
-  for (int iteration = 0; iteration < 200; ++iteration) {
+  // Halving reaches adjacent doubles within log2(hi / root) + 53 steps, up to ~2150 for a bracket
+  // from a denormal to 1e308 (weak gravity bounds the time of impact by ~|v| / |g|, far beyond
+  // it): a smaller cap stopped short and let discs through walls.
+  for (int iteration = 0; iteration < 2200; ++iteration) {
     const double mid = 0.5 * (lo + hi);
     if (mid <= lo || mid >= hi) break;
     const double f_mid = horner(p, degree, mid);
@@ -156,10 +159,7 @@ double disc_point_time(const Vec2& r, const Vec2& v, const Vec2& g, const Vec2& 
   const QuadraticRoots bound = solve_quadratic(0.5 * g.norm(), -v.norm(), -(d.norm() + radius));
   const double t_max = bound.hi;
   const double poly[5] = {f0, df0, v.squaredNorm() + d.dot(g), v.dot(g), 0.25 * g.squaredNorm()};
-  const double t = first_polynomial_crossing(poly, 4, t_max, false);
-  // A hair inside the point, moving out too slowly to get clear before gravity brings it back:
-  // it stays in contact, so collide now (as a convex penetration that never vanishes).
-  return t == kNever && f0 <= 0 ? 0.0 : t;
+  return first_polynomial_crossing(poly, 4, t_max, false);
 }
 
 double disc_in_circle_time(const Vec2& r, const Vec2& v, const Vec2& g, double reach) {
@@ -184,8 +184,9 @@ double disc_in_circle_time(const Vec2& r, const Vec2& v, const Vec2& g, double r
   const QuadraticRoots bound = solve_quadratic(0.5 * g.norm(), -v.norm(), -(r.norm() + reach));
   const double poly[5] = {C, 2 * B, second, v.dot(g), 0.25 * g.squaredNorm()};
   const double t = first_polynomial_crossing(poly, 4, bound.hi, true);
-  // A hair outside, moving in too slowly to get clear before gravity brings it back out: it stays
-  // in contact, so collide now (as a convex penetration that never vanishes).
+  // Found a hair outside and moving in, but too slowly to get inside before gravity takes it out
+  // again: f never dips below zero, so there is no upward crossing to find. It is in contact:
+  // collide now (the wall then puts it back on the circle, see collide_wall).
   return t == kNever && C >= 0 ? 0.0 : t;
 }
 
