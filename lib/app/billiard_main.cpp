@@ -13,9 +13,14 @@
 #include "billiard/course.hpp"
 #include "billiard/not_implemented.hpp"
 
+#include <atomic>
+#include <cerrno>
+#include <cctype>
 #include <charconv>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -32,9 +37,36 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// Limits, so that every accepted run ends within minutes and no number of the run overflows.
+// Velocities are of order 1, so lengths, times and their squares stay near the radii's scale.
+constexpr double kMinRadius = 0.001, kMaxRadius = 1000;  // only the ratio of the radii matters
+constexpr long long kMaxCircles = 1000;
+constexpr long long kMaxCollisions = 1'000'000;
+constexpr long long kMaxDriftCollisions = 100'000'000;
+constexpr long long kMaxMovieSize = 2'000'000;          // N x K: circles times key frames
+constexpr long long kMaxPairChecks = 10'000'000'000LL;  // (K + M) x N(N-1)/2: every pair, every collision
+
+// The files the command writes, in this order.
+constexpr const char* kFiles[] = {"table.svg", "movie.svg"};
+
 constexpr const char* kUsage = "usage: billiard [TABLE_RADIUS CIRCLE_RADIUS N] [options]; see billiard --help";
 
-constexpr const char* kHelp = R"(billiard: N hard circles colliding elastically on a circular table.
+template <typename... Parts>
+std::string text(const Parts&... parts) {
+  std::ostringstream out;
+  (out << ... << parts);
+  return out.str();
+}
+
+// 2000000 -> "2,000,000".
+std::string thousands(long long number) {
+  std::string digits = std::to_string(number);
+  for (auto k = static_cast<std::ptrdiff_t>(digits.size()) - 3; k > 0; k -= 3) digits.insert(std::size_t(k), ",");
+  return digits;
+}
+
+std::string help() {
+  return text(R"(billiard: N hard circles colliding elastically on a circular table.
 
 usage: billiard [TABLE_RADIUS CIRCLE_RADIUS N] [options]
        billiard 10 1 10              (the default: 10 circles of radius 1, table radius 10)
@@ -49,32 +81,58 @@ options:
                          same table
   --collisions K         collisions in the movie (default 100)
   --drift-collisions M   further collisions to measure the energy drift (default 10000)
-  --output DIR           folder for table.svg and movie.svg (default billiard-output);
-                         open them in a web browser
+  --output DIR           folder for table.svg and movie.svg (default billiard-output; created
+                         if missing); open them in a web browser
   -h, --help             this help
 
-limits: N <= 1000 (every collision checks all pairs); N x K <= 2,000,000 (movie size).
-exit status: 0 done; 1 a task is not implemented yet or failed; 2 bad input.
-)";
+limits, so that every run ends within minutes and no number overflows:
+)",
+              "  TABLE_RADIUS and CIRCLE_RADIUS from ", kMinRadius, " to ", kMaxRadius, " (only their ratio matters)\n",
+              "  N <= ", thousands(kMaxCircles), ", K <= ", thousands(kMaxCollisions),
+              ", M <= ", thousands(kMaxDriftCollisions), "\n",
+              "  N x K <= ", thousands(kMaxMovieSize), " (the size of the movie)\n",
+              "  (K + M) x N(N-1)/2 <= ", thousands(kMaxPairChecks), " (every collision checks all pairs of circles)\n",
+              R"(exit status: 0 done; 1 a task is not implemented yet or failed; 2 bad input (one line on
+stderr, nothing written).
+)");
+}
 
 // Bad input: one line on stderr, exit status 2, nothing written.
 struct BadInput : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-template <typename... Parts>
-std::string text(const Parts&... parts) {
-  std::ostringstream out;
-  (out << ... << parts);
-  return out.str();
+// Text from the command line, the file system or a task, safe to print on one line: control
+// characters are escaped, and text longer than `longest` is cut short.
+std::string printable(std::string_view value, std::size_t longest = std::string_view::npos) {
+  std::string out;
+  for (std::size_t k = 0; k < value.size(); ++k) {
+    if (k == longest) return out + "...";
+    const auto byte = static_cast<unsigned char>(value[k]);
+    if (byte == '\n') {
+      out += "\\n";
+    } else if (byte == '\t') {
+      out += "\\t";
+    } else if (byte < 0x20 || byte == 0x7f) {
+      constexpr const char* kHex = "0123456789abcdef";
+      out += {'\\', 'x', kHex[byte >> 4], kHex[byte & 15]};
+    } else {
+      out += value[k];
+    }
+  }
+  return out;
 }
 
-double parse_number(std::string_view value, std::string_view name, std::string_view example) {
+std::string in_quotes(std::string_view value) { return "'" + printable(value, 100) + "'"; }
+
+// A radius: a plain decimal number (from_chars: no spaces, no hex, no inf or nan) in range.
+double parse_radius(std::string_view value, std::string_view name, std::string_view example) {
   double number = 0;
   const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), number);
-  if (error != std::errc() || end != value.data() + value.size() || !std::isfinite(number) || number <= 0) {
-    throw BadInput(text(name, " must be a positive number, got '", value, "' (for example ", example, "; ",
-                        kUsage, ")"));
+  if (error != std::errc() || end != value.data() + value.size() || !(number >= kMinRadius && number <= kMaxRadius)) {
+    throw BadInput(text(name, " must be a number from ", kMinRadius, " to ", kMaxRadius, ", got ", in_quotes(value),
+                        " (only the ratio of the radii matters: scale both, for example ", example, "; ", kUsage,
+                        ")"));
   }
   return number;
 }
@@ -84,14 +142,19 @@ long long parse_whole(std::string_view value, std::string_view name, long long l
   long long number = 0;
   const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), number);
   if (error != std::errc() || end != value.data() + value.size() || number < low || number > high) {
-    throw BadInput(text(name, " must be a whole number from ", low, " to ", high, why, ", got '", value, "' (",
-                        kUsage, ")"));
+    throw BadInput(text(name, " must be a whole number from ", low, " to ", thousands(high), why, ", got ",
+                        in_quotes(value), " (", kUsage, ")"));
   }
   return number;
 }
 
+// A negative number (or -inf, -nan) is a number given, to be refused as one, not an option.
 bool looks_like_number(std::string_view argument) {
-  return argument.size() > 1 && argument[0] == '-' && (std::isdigit(argument[1]) || argument[1] == '.');
+  double ignored = 0;
+  const auto [end, error] = std::from_chars(argument.data(), argument.data() + argument.size(), ignored);
+  const bool whole = end == argument.data() + argument.size() && error != std::errc::invalid_argument;
+  return argument.size() > 1 && argument[0] == '-' &&
+         (std::isdigit(static_cast<unsigned char>(argument[1])) || argument[1] == '.' || whole);
 }
 
 struct Options {
@@ -129,14 +192,14 @@ Options parse(int argc, char** argv) {
     if (name == "--seed") {
       options.seed = static_cast<std::uint64_t>(parse_whole(value, "--seed", 0, 9'000'000'000'000'000'000LL, ""));
     } else if (name == "--collisions") {
-      options.collisions = static_cast<int>(parse_whole(value, "--collisions", 0, 1'000'000, ""));
+      options.collisions = static_cast<int>(parse_whole(value, "--collisions", 0, kMaxCollisions, ""));
     } else if (name == "--drift-collisions") {
-      options.drift_collisions = parse_whole(value, "--drift-collisions", 0, 100'000'000, "");
+      options.drift_collisions = parse_whole(value, "--drift-collisions", 0, kMaxDriftCollisions, "");
     } else if (name == "--output") {
       if (value.empty()) throw BadInput(text("--output needs a folder name (", kUsage, ")"));
       options.output = fs::path(value);
     } else {
-      throw BadInput(text("unknown option '", argument, "' (", kUsage, ")"));
+      throw BadInput(text("unknown option ", in_quotes(argument), " (", kUsage, ")"));
     }
   }
   if (!numbers.empty() && numbers.size() != 3) {
@@ -144,56 +207,142 @@ Options parse(int argc, char** argv) {
                         numbers.size(), " (", kUsage, ")"));
   }
   if (numbers.size() == 3) {
-    options.table_radius = parse_number(numbers[0], "TABLE_RADIUS", "10");
-    options.circle_radius = parse_number(numbers[1], "CIRCLE_RADIUS", "1");
-    options.n = static_cast<int>(parse_whole(numbers[2], "N", 0, 1000, " (every collision checks all pairs)"));
+    options.table_radius = parse_radius(numbers[0], "TABLE_RADIUS", "10 1 10 or 1 0.1 10");
+    options.circle_radius = parse_radius(numbers[1], "CIRCLE_RADIUS", "10 1 10 or 1 0.1 10");
+    options.n = static_cast<int>(parse_whole(numbers[2], "N", 0, kMaxCircles, " (every collision checks all pairs)"));
+    if (options.circle_radius >= options.table_radius) {
+      throw BadInput(text("CIRCLE_RADIUS ", in_quotes(numbers[1]), " must be smaller than TABLE_RADIUS ",
+                          in_quotes(numbers[0]), " for a circle to fit on the table (", kUsage, ")"));
+    }
   }
-  if (options.circle_radius >= options.table_radius) {
-    throw BadInput(text("CIRCLE_RADIUS ", options.circle_radius, " must be smaller than TABLE_RADIUS ",
-                        options.table_radius, " for a circle to fit on the table (", kUsage, ")"));
+  const long long n = options.n, collisions = options.collisions;
+  if (n * collisions > kMaxMovieSize) {
+    throw BadInput(text("--collisions ", collisions, " with N = ", n, " makes too large a movie; use --collisions ",
+                        kMaxMovieSize / std::max(n, 1LL), " or fewer (N x K <= ", thousands(kMaxMovieSize), ")"));
   }
-  if (static_cast<long long>(options.n) * options.collisions > 2'000'000) {
-    throw BadInput(text("--collisions ", options.collisions, " with N = ", options.n,
-                        " makes too large a movie; use --collisions ", 2'000'000 / std::max(options.n, 1),
-                        " or fewer (N x K <= 2,000,000)"));
-  }
-  std::error_code error;
-  if (fs::exists(options.output, error) && !fs::is_directory(options.output, error)) {
-    throw BadInput(text("--output ", options.output.string(), " is a file, not a folder; choose another folder"));
+  const long long pairs = n * (n - 1) / 2, events = collisions + options.drift_collisions;
+  if (pairs > 0 && events > kMaxPairChecks / pairs) {
+    const long long most = kMaxPairChecks / pairs;
+    throw BadInput(text("--collisions ", collisions, " and --drift-collisions ", options.drift_collisions,
+                        " with N = ", n, " make too long a run; use ",
+                        collisions <= most ? text("--drift-collisions ", most - collisions)
+                                           : text("--collisions and --drift-collisions adding up to ", most),
+                        " or fewer ((K + M) x N(N-1)/2 <= ", thousands(kMaxPairChecks),
+                        ": every collision checks all pairs)"));
   }
   return options;
 }
 
-// Files are written into a private folder next to the output folder and moved into place at
-// the end, so an interrupted or refused run leaves no partial output.
+// Removes the files and folders of an unfinished run when the run is interrupted: the paths
+// of the output folder's Staging, children before parents, or null.
+std::atomic<const std::vector<std::string>*> g_partial_output{nullptr};
+
+extern "C" void remove_partial_output(int signal_number) {
+  // Only async-signal-safe calls: unlink and rmdir (each path is a file or an empty folder).
+  if (const auto* paths = g_partial_output.load()) {
+    for (const auto& path : *paths) {
+      ::unlink(path.c_str());
+      ::rmdir(path.c_str());
+    }
+  }
+  std::signal(signal_number, SIG_DFL);
+  std::raise(signal_number);
+}
+
+// The output folder. Before anything runs, the constructor creates it (and any missing
+// parents) and a private folder inside it: a folder that cannot be created or written to is
+// bad input, found before anything is printed or written. The files are written into the
+// private folder and moved into place at the end. A run that is refused, fails before
+// writing a file, or is interrupted removes every folder the constructor created, so it
+// leaves no partial output.
 class Staging {
  public:
   explicit Staging(const fs::path& output) : output_(output) {
-    const fs::path parent = fs::absolute(output).parent_path();
-    fs::create_directories(parent);
-    path_ = parent / text(".billiard-partial-", ::getpid());
-    fs::create_directories(path_);
+    const std::string given = output.string();
+    const auto refuse = [&](const std::string& problem) {
+      remove_created();
+      throw BadInput(text("--output ", in_quotes(given), problem));
+    };
+    fs::path prefix;
+    for (const auto& part : output) {
+      prefix /= part;
+      std::error_code error;
+      if (fs::create_directory(prefix, error)) {
+        created_.push_back(prefix);
+      } else if (error) {
+        // The part of the path that is in the way: "--output 'a/b': 'a' is a file", or the whole.
+        const std::string part_named = prefix == output ? "" : ": " + in_quotes(prefix.string());
+        std::error_code ignored;
+        if (fs::exists(prefix, ignored) && !fs::is_directory(prefix, ignored)) {
+          refuse(part_named + " is a file, not a folder; give the name of a folder (it is created if missing)");
+        }
+        if (fs::is_symlink(prefix, ignored) && !fs::exists(prefix, ignored)) {
+          refuse(text(part_named, " is a link to ", in_quotes(fs::read_symlink(prefix, ignored).string()),
+                      ", which does not exist; give a folder you can write to"));
+        }
+        refuse(text(": cannot create ", prefix == output ? "this folder" : "the folder " + in_quotes(prefix.string()),
+                    " (", error.message(), "); give a folder you can write to"));
+      }
+    }
+    for (const char* name : kFiles) {
+      std::error_code ignored;
+      if (fs::is_directory(output / name, ignored)) {
+        refuse(text(" has a folder named ", name, " where the picture goes; remove it or give another folder"));
+      }
+    }
+    std::string private_folder = (output / ".billiard-partial-XXXXXX").string();
+    if (::mkdtemp(private_folder.data()) == nullptr) {
+      const int error = errno;
+      refuse(text(": cannot write in this folder (", std::generic_category().message(error),
+                  "); give a folder you can write to"));
+    }
+    path_ = private_folder;
+    // What an interruption removes: the files, then the private folder, then the created folders.
+    for (const char* name : kFiles) cleanup_.push_back(file(name).string());
+    cleanup_.push_back(path_.string());
+    for (auto folder = created_.rbegin(); folder != created_.rend(); ++folder) cleanup_.push_back(folder->string());
+    g_partial_output = &cleanup_;
+    for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
+      struct sigaction now {};
+      // A signal the caller ignores (nohup, a background job) stays ignored.
+      if (::sigaction(signal_number, nullptr, &now) == 0 && now.sa_handler != SIG_IGN) {
+        std::signal(signal_number, remove_partial_output);
+      }
+    }
   }
+  Staging(const Staging&) = delete;
+  Staging& operator=(const Staging&) = delete;
   ~Staging() {
+    g_partial_output = nullptr;
     std::error_code ignored;
     fs::remove_all(path_, ignored);
+    remove_created();
   }
   fs::path file(const std::string& name) const { return path_ / name; }
   // Moves the files written so far into the output folder; returns their final paths.
   std::vector<fs::path> publish() {
     std::vector<fs::path> published;
-    if (fs::is_empty(path_)) return published;
-    fs::create_directories(output_);
-    for (const auto& entry : fs::directory_iterator(path_)) {
-      const fs::path target = output_ / entry.path().filename();
-      fs::rename(entry.path(), target);
+    for (const char* name : kFiles) {
+      if (!fs::exists(file(name))) continue;
+      const fs::path target = output_ / name;
+      fs::rename(file(name), target);
       published.push_back(target);
     }
     return published;
   }
 
  private:
+  // Removes the folders the constructor created, deepest first, where they are still empty.
+  void remove_created() {
+    for (auto folder = created_.rbegin(); folder != created_.rend(); ++folder) {
+      std::error_code ignored;
+      fs::remove(*folder, ignored);
+    }
+  }
+
   fs::path output_, path_;
+  std::vector<fs::path> created_;     // folders the constructor created, parents first
+  std::vector<std::string> cleanup_;  // for remove_partial_output
 };
 
 std::string format(double value, int precision = 6) {
@@ -211,7 +360,7 @@ struct Report {
   }
   // Moves the files into place, says what was written and what is missing; the exit status.
   int finish(Staging& staging) const {
-    for (const auto& file : staging.publish()) std::cout << "  wrote " << file.string() << "\n";
+    for (const auto& file : staging.publish()) std::cout << "  wrote " << printable(file.string()) << "\n";
     if (missing.empty()) return 0;
     std::cout << "billiard: " << missing.size()
               << " step(s) could not run; the lines marked !! above say which task to work on\n";
@@ -219,7 +368,7 @@ struct Report {
   }
 };
 
-int run(const Options& options) {
+int run(const Options& options, Staging& staging) {
   using namespace billiard;
   const double table_radius = options.table_radius, circle_radius = options.circle_radius;
   const int n = options.n;
@@ -227,7 +376,7 @@ int run(const Options& options) {
   Report report;
 
   // Task 1 first: an invalid_argument here means the circles cannot fit, which is bad input,
-  // reported before anything is printed or written.
+  // reported before anything is printed or written (the staging removes the folders it made).
   std::optional<Coordinates> coordinates;
   std::optional<NotImplemented> init_missing;
   try {
@@ -235,7 +384,7 @@ int run(const Options& options) {
   } catch (const NotImplemented& missing) {
     init_missing = missing;
   } catch (const std::invalid_argument& error) {
-    throw BadInput(error.what());
+    throw BadInput(printable(error.what()));
   }
 
   std::cout << "billiard: " << n << (n == 1 ? " circle" : " circles") << " of radius " << circle_radius
@@ -245,7 +394,6 @@ int run(const Options& options) {
   if (init_missing) report.task_failed(*init_missing);
   if (coordinates) std::cout << "  task 1 init_billiard     placed the circles\n";
 
-  Staging staging(options.output);
   std::optional<Velocities> velocities;
   if (coordinates) {
     try {
@@ -321,15 +469,16 @@ int main(int argc, char** argv) {
   try {
     const Options options = parse(argc, argv);
     if (options.help) {
-      std::cout << kHelp;
+      std::cout << help();
       return 0;
     }
-    return run(options);
+    Staging staging(options.output);
+    return run(options, staging);
   } catch (const BadInput& error) {
     std::cerr << "billiard: " << error.what() << "\n";
     return 2;
   } catch (const std::exception& error) {
-    std::cerr << "billiard: unexpected error: " << error.what() << "\n";
+    std::cerr << "billiard: unexpected error: " << printable(error.what()) << "\n";
     return 1;
   }
 }

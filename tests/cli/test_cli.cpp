@@ -1,10 +1,10 @@
 // The `billiard` command as a person uses it: what it prints, its exit status, and which files
 // it leaves behind. Each test runs the command in a fresh, empty folder.
+#include "cli_runner.hpp"
+
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
-#include <cstdlib>
+#include <climits>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -17,18 +17,19 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int status = -1;
-  std::string out, err;
+using cli::slurp;
+
+// "10 1 10 --seed 3" -> {"10", "1", "10", "--seed", "3"}: arguments as typed, split at spaces.
+std::vector<std::string> words(const std::string& arguments) {
+  std::istringstream in(arguments);
+  std::vector<std::string> split;
+  for (std::string word; in >> word;) split.push_back(word);
+  return split;
+}
+
+struct Result : cli::Run {
   std::vector<std::string> files;  // everything left in the folder, recursively, relative paths
 };
-
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 class Cli : public ::testing::Test {
  protected:
@@ -39,32 +40,29 @@ class Cli : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(folder_); }
 
-  // Runs `exe arguments` inside folder_/work; stdout and stderr go to files outside it.
-  Result run(const std::string& exe, const std::string& arguments) {
-    const std::string command = "cd '" + (folder_ / "work").string() + "' && '" + exe + "' " + arguments + " >'" +
-                                (folder_ / "out").string() + "' 2>'" + (folder_ / "err").string() + "'";
-    const int raw = std::system(command.c_str());
+  // Runs `exe arguments...` inside folder_/work; stdout and stderr go to files outside it.
+  Result run(const std::string& exe, const std::vector<std::string>& arguments, const cli::Limits& limits = {}) {
     Result result;
-    result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    result.out = slurp(folder_ / "out");
-    result.err = slurp(folder_ / "err");
-    for (const auto& entry : fs::recursive_directory_iterator(folder_ / "work")) {
-      result.files.push_back(fs::relative(entry.path(), folder_ / "work").string());
-    }
+    static_cast<cli::Run&>(result) = cli::run_program(exe, arguments, folder_ / "work", folder_ / "log", limits);
+    EXPECT_FALSE(result.timed_out) << "billiard " << cli::shown(arguments) << " ran longer than " << limits.seconds
+                                   << " s";
+    for (const auto& [name, content] : cli::tree(folder_ / "work")) result.files.push_back(name);
     return result;
   }
+  // The same, with the arguments separated by spaces, as typed.
+  Result run(const std::string& exe, const std::string& arguments) { return run(exe, words(arguments)); }
 
   // Bad input: status 2, exactly one line on stderr naming the problem, nothing on stdout,
   // and no file or folder left behind.
-  void expect_refused(const std::string& arguments, const std::string& must_mention) {
-    SCOPED_TRACE("billiard " + arguments);
+  void expect_refused(const std::vector<std::string>& arguments, const std::string& must_mention) {
+    SCOPED_TRACE("billiard " + cli::shown(arguments));
     const Result result = run(BILLIARD_EXE, arguments);
-    EXPECT_EQ(result.status, 2);
-    EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
-    EXPECT_EQ(result.err.rfind("billiard: ", 0), 0u) << result.err;
+    EXPECT_EQ(cli::refusal_problems(result), "") << result.out << result.err;
     EXPECT_NE(result.err.find(must_mention), std::string::npos) << result.err;
-    EXPECT_EQ(result.out, "");
     EXPECT_TRUE(result.files.empty()) << "left behind: " << result.files.front();
+  }
+  void expect_refused(const std::string& arguments, const std::string& must_mention) {
+    expect_refused(words(arguments), must_mention);
   }
 
   fs::path folder_;
@@ -147,6 +145,52 @@ TEST_F(Cli, OversizedMovieIsRefused) { expect_refused("100 1 1000 --collisions 1
 TEST_F(Cli, TooManyCirclesForAllPairsCodeAreRefused) { expect_refused("1000 1 5000", "N"); }
 TEST_F(Cli, MissingOptionValueIsRefused) { expect_refused("10 1 10 --output", "--output"); }
 
+// Radii far outside 0.001..1000 would overflow to inf (or underflow to 0) inside the tasks,
+// which would then blame the student's code.
+TEST_F(Cli, HugeTableRadiusIsRefused) { expect_refused("1e308 1 10", "from 0.001 to 1000"); }
+TEST_F(Cli, TinyCircleRadiusIsRefused) { expect_refused("10 1e-308 10", "CIRCLE_RADIUS"); }
+TEST_F(Cli, DenormalRadiusIsRefused) { expect_refused("10 4.9e-324 10", "CIRCLE_RADIUS"); }
+TEST_F(Cli, InfiniteRadiusIsRefused) { expect_refused("inf 1 10", "TABLE_RADIUS"); }
+TEST_F(Cli, NanRadiusIsRefused) { expect_refused("10 nan 10", "CIRCLE_RADIUS"); }
+TEST_F(Cli, RadiusJustAboveTheLimitIsRefused) { expect_refused("1000.0000001 1 10", "TABLE_RADIUS"); }
+TEST_F(Cli, CountBeyondIntIsRefused) { expect_refused("10 1 4294967296", "N"); }
+TEST_F(Cli, TooLongRunIsRefusedWithTheLargestAllowedCount) {
+  // (K + M) x N(N-1)/2 <= 10^10 with N = 1000: K + M <= 20,020, so M <= 19,920 with K = 100.
+  expect_refused("100 1 1000 --drift-collisions 19921", "use --drift-collisions 19920 or fewer");
+}
+TEST_F(Cli, DriftCollisionsAboveTheirLimitAreRefused) {
+  expect_refused("10 1 2 --drift-collisions 100000001", "--drift-collisions");
+}
+TEST_F(Cli, EmptyOutputIsRefused) { expect_refused(std::vector<std::string>{"--output", ""}, "--output"); }
+TEST_F(Cli, OutputUnderProcIsRefusedBeforeAnythingRuns) {
+  expect_refused("10 1 10 --output /proc/billiard-output", "cannot create this folder");
+  EXPECT_FALSE(fs::exists("/proc/billiard-output"));
+}
+TEST_F(Cli, OutputBelowAFileIsRefused) {
+  std::ofstream(folder_ / "work/taken") << "not a folder";
+  const Result result = run(BILLIARD_EXE, "--output taken/pictures");
+  EXPECT_EQ(cli::refusal_problems(result), "") << result.out << result.err;
+  EXPECT_NE(result.err.find("'taken' is a file"), std::string::npos) << result.err;
+  EXPECT_EQ(result.files, std::vector<std::string>{"taken"});
+}
+TEST_F(Cli, OutputNameLongerThanTheSystemAllowsIsRefused) {
+  expect_refused(std::vector<std::string>{"--output", "new/" + std::string(NAME_MAX + 1, 'a')}, "File name too long");
+}
+TEST_F(Cli, OutputWithAFolderWhereAPictureGoesIsRefused) {
+  fs::create_directories(folder_ / "work/pictures/table.svg");
+  const Result result = run(BILLIARD_EXE, "--output pictures");
+  EXPECT_EQ(cli::refusal_problems(result), "") << result.out << result.err;
+  EXPECT_NE(result.err.find("table.svg"), std::string::npos) << result.err;
+  EXPECT_EQ(result.files, (std::vector<std::string>{"pictures", "pictures/table.svg"}));
+}
+TEST_F(Cli, NewlineInAnArgumentStaysOnOneLine) {
+  expect_refused(std::vector<std::string>{"10", "1", "1\n0"}, "'1\\n0'");
+}
+TEST_F(Cli, CirclesThatCannotFitLeaveNoOutputFolder) {
+  // The output folder is created before task 1 runs; a refusal by task 1 removes it again.
+  expect_refused("10 1 1000 --output new/pictures", "cannot fit");
+}
+
 TEST_F(Cli, OutputThatIsAFileIsRefused) {
   std::ofstream(folder_ / "work/taken") << "not a folder";
   const Result result = run(BILLIARD_EXE, "--output taken");
@@ -154,6 +198,32 @@ TEST_F(Cli, OutputThatIsAFileIsRefused) {
   EXPECT_NE(result.err.find("taken"), std::string::npos) << result.err;
   EXPECT_EQ(slurp(folder_ / "work/taken"), "not a folder");
   EXPECT_EQ(result.files.size(), 1u);
+}
+
+TEST_F(Cli, ExistingOutputFolderKeepsItsOtherFiles) {
+  fs::create_directories(folder_ / "work/pictures");
+  std::ofstream(folder_ / "work/pictures/notes.txt") << "mine";
+  const Result result = run(BILLIARD_EXE, "10 1 3 --collisions 2 --drift-collisions 2 --output pictures");
+  ASSERT_EQ(result.status, 0) << result.out << result.err;
+  EXPECT_EQ(result.files, (std::vector<std::string>{"pictures", "pictures/movie.svg", "pictures/notes.txt",
+                                                    "pictures/table.svg"}));
+  EXPECT_EQ(slurp(folder_ / "work/pictures/notes.txt"), "mine");
+}
+
+TEST_F(Cli, RadiiAtTheirLimitsRun) {
+  const Result result = run(BILLIARD_EXE, "1000 0.001 5 --collisions 3 --drift-collisions 3");
+  EXPECT_EQ(result.status, 0) << result.out << result.err;
+  EXPECT_NE(slurp(folder_ / "work/billiard-output/movie.svg").find("</svg>"), std::string::npos);
+}
+
+TEST_F(Cli, InterruptedRunLeavesNothingBehind) {
+  // About 10 s of collisions at N = 1000 (longer on a slow machine), interrupted after 1 s.
+  cli::Limits limits;
+  limits.interrupt_after = 1;
+  const Result result = run(BILLIARD_EXE, words("100 1 1000 --collisions 0 --drift-collisions 2000 --output a/b"),
+                            limits);
+  EXPECT_EQ(result.signal, SIGINT) << "status " << result.status << "\n" << result.out << result.err;
+  EXPECT_TRUE(result.files.empty()) << "left behind: " << result.files.front();
 }
 
 TEST_F(Cli, NoCirclesGivesStillPicturesAndNoError) {
