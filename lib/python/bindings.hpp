@@ -6,6 +6,8 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <string>
+
 namespace billiard::python {
 
 using Rows2 = Eigen::Matrix<double, Eigen::Dynamic, 2>;
@@ -19,6 +21,9 @@ void write_back(const Rows2& matrix, pybind11::array& array);
 
 // A new n by 2 float64 numpy array.
 pybind11::array_t<double> to_numpy(const Rows2& matrix);
+
+// repr(value) for an error message, at most about 60 characters (and never an error itself).
+std::string short_repr(const pybind11::handle& value);
 
 void bind_course(pybind11::module_& m);
 void bind_simulation(pybind11::module_& m);

@@ -26,7 +26,13 @@ template <class Draw>
 auto with_rng(const py::object& rng, Draw&& draw) {
   if (py::isinstance<PyRng>(rng)) return draw(rng.cast<PyRng&>().engine);
   if (py::isinstance<py::int_>(rng)) {
-    Rng engine(rng.cast<std::uint64_t>());
+    // (Python ints are unbounded; a cast_error here would arrive as a RuntimeError.)
+    const unsigned long long seed = PyLong_AsUnsignedLongLong(rng.ptr());
+    if (PyErr_Occurred()) {
+      PyErr_Clear();
+      throw std::invalid_argument("rng: an int seed must be in [0, 2**64), got " + short_repr(rng));
+    }
+    Rng engine(seed);
     return draw(engine);
   }
   throw std::invalid_argument("rng must be a billiard.Rng or an int seed, got " +

@@ -12,6 +12,7 @@ namespace py = pybind11;
 namespace billiard::python {
 
 Rows2 from_numpy(const py::array& array, const char* name, bool writable) {
+  if (!array) throw std::invalid_argument(std::string(name) + " must be an array of numbers of shape (n, 2)");
   const auto shape = [&] {
     std::string s = "(";
     for (py::ssize_t k = 0; k < array.ndim(); ++k) s += (k ? ", " : "") + std::to_string(array.shape(k));
@@ -27,6 +28,13 @@ Rows2 from_numpy(const py::array& array, const char* name, bool writable) {
                                   "(make one with numpy.array(" + name + ", dtype=float)), got dtype " +
                                   py::str(array.dtype()).cast<std::string>());
     }
+  }
+  // Only real numbers: numpy would also cast complex numbers (dropping the imaginary part),
+  // booleans and strings such as "1.5" to float64.
+  const char kind = array.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u') {
+    throw std::invalid_argument(std::string(name) + " must hold real numbers (an integer or float dtype), got dtype " +
+                                py::str(array.dtype()).cast<std::string>());
   }
   const auto values = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(array);
   if (!values) throw std::invalid_argument(std::string(name) + " must hold numbers");
@@ -46,6 +54,16 @@ void write_back(const Rows2& matrix, py::array& array) {
     view(i, 0) = matrix(i, 0);
     view(i, 1) = matrix(i, 1);
   }
+}
+
+std::string short_repr(const py::handle& value) {
+  std::string text;
+  try {
+    text = py::repr(value).cast<std::string>();
+  } catch (const py::error_already_set&) {  // e.g. an int of more than 4300 digits
+    text = "a " + py::str(py::type::of(value)).cast<std::string>();
+  }
+  return text.size() > 60 ? text.substr(0, 57) + "..." : text;
 }
 
 py::array_t<double> to_numpy(const Rows2& matrix) {

@@ -19,13 +19,19 @@ namespace py = pybind11;
 namespace billiard::python {
 namespace {
 
+// A point (x, y): two real numbers in any sequence or array. (ensure() gives a null array when
+// numpy cannot read the value at all.)
 Vec2 to_vec2(const py::object& value, const char* name) {
-  const Rows2 m = from_numpy(py::array_t<double>::ensure(value).reshape({1, 2}), name);
+  py::array array = py::array::ensure(value);
+  if (!array || array.size() != 2) {
+    throw std::invalid_argument(std::string(name) + " must be a point (x, y) of two numbers, got " + short_repr(value));
+  }
+  const Rows2 m = from_numpy(array.reshape({1, 2}), name);
   return Vec2(m(0, 0), m(0, 1));
 }
 
 Points to_points(const py::object& value, const char* name) {
-  const Rows2 m = from_numpy(py::array::ensure(value), name);
+  const Rows2 m = from_numpy(py::array::ensure(value), name);  // (from_numpy refuses a null array)
   return Points(m);
 }
 
@@ -187,6 +193,9 @@ mass (n,), radius (n,), inertia (n,). Bad input raises ValueError naming the dis
           "advance",
           [](Simulation& s, std::optional<std::int64_t> events, std::optional<double> time) {
             if (!events && !time) throw std::invalid_argument("advance: give events=..., time=... or both");
+            // (Named as in Python: the library's messages say max_events and max_duration.)
+            if (events && *events < 0) throw std::invalid_argument("advance: events must be >= 0, got " + std::to_string(*events));
+            if (time && !(*time >= 0)) throw std::invalid_argument("advance: time must be >= 0, got " + short_repr(py::float_(*time)));
             const AdvanceResult r = s.advance(events.value_or(kAllEvents), time.value_or(kNever));
             py::dict d;
             d["collisions"] = r.collisions;

@@ -9,14 +9,15 @@
 
 namespace billiard::checks {
 
-// table_radius and circle_radius positive and finite, n >= 0, and circle_radius <
-// table_radius when there is at least one circle.
+// table_radius and circle_radius positive and finite, in [1e-50, 1e50], n >= 0, and
+// circle_radius < table_radius when there is at least one circle.
 void table(double table_radius, double circle_radius, int n);
 
 // n >= 0.
 void count(int n);
 
-// `rows` has n rows and only finite numbers; `name` is the argument's name for the message.
+// `rows` has n rows and only finite numbers of magnitude at most 1e50; `name` is the argument's
+// name for the message.
 void rows(const Eigen::Matrix<double, Eigen::Dynamic, 2>& rows, int n, std::string_view name);
 
 // Every centre inside the table (|r| <= table_radius - circle_radius) and no two circles

@@ -6,6 +6,8 @@
 // Units: lengths in table units, times in the units the velocities imply (length / speed).
 // Arrays: `Coordinates` and `Velocities` have n rows, column 0 is x and column 1 is y.
 // Errors: invalid arguments throw std::invalid_argument whose message names the argument.
+// Numbers must be finite and at most 1e50 in magnitude, radii at least 1e-50 (squares of larger
+// ones overflow).
 #pragma once
 
 #include <Eigen/Core>

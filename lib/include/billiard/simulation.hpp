@@ -11,7 +11,12 @@
 // Setup (discs, walls, container, gravity, cell size) must be complete before the first
 // advance(); afterwards only the restitution, the event log and validation can change. Every
 // setup call checks its input and throws std::invalid_argument naming the argument (and the disc
-// index) and its value; a refused call leaves the simulation unchanged.
+// index) and its value; a refused call leaves the simulation unchanged. A setup call after the
+// first advance() throws std::logic_error (the call is the mistake, whatever its arguments), as
+// does advance() without a container. Numbers must be finite and at most 1e50 in magnitude, and
+// radii, masses and moments of inertia at least 1e-50: the engine squares and multiplies them,
+// and beyond that the products overflow or underflow. Radii must also be at least 1e-6 of the
+// coordinates of the container and the discs: positions are computed to about 1e-16 of them.
 //
 // Units: the user's. Time starts at 0. Energy is conserved to rounding for smooth elastic discs
 // (about 1e-16 relative per collision, a random walk).

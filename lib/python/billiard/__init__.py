@@ -11,8 +11,14 @@ chose; see ``billiard.course_implementation``) work on numpy arrays of shape (n,
     Collision(time=..., circle=..., other=...)
 
 Drawing and animation: ``billiard.plotting`` (matplotlib). Errors in arguments arrive as
-ValueError with the library's message; a task not written yet raises NotImplementedError.
+ValueError with the library's message, naming the argument; an argument of the wrong Python type
+(a string for a number, a list where a numpy array is required, an int beyond the C++ parameter's
+range such as n >= 2**31) is a TypeError from pybind11 listing the signature. A setup call after
+the first advance() is a RuntimeError. A task not written yet raises NotImplementedError.
 """
+
+import math
+import numbers
 
 from ._billiard import (  # noqa: F401  (re-exported)
     WALL,
@@ -42,8 +48,12 @@ if hasattr(_billiard, "Simulation"):
     def _replay_by_time(self, dt, until=None):
         """Yields the state at times t0, t0 + dt, t0 + 2 dt, ... up to `until` (default: the current
         time), t0 being the initial time: frames at a fixed rate for animations."""
+        if not isinstance(dt, numbers.Real) or not (until is None or isinstance(until, numbers.Real)):
+            raise TypeError(f"replay_by_time: dt and until must be numbers, got dt={dt!r}, until={until!r}")
         if not dt > 0:
             raise ValueError(f"replay_by_time: dt must be positive, got {dt}")
+        if until is not None and not math.isfinite(until):
+            raise ValueError(f"replay_by_time: until must be finite, got {until}")
         replay = _billiard._Replay(self)
         start = self.initial_state["time"]
         end = self.time if until is None else until

@@ -16,8 +16,15 @@ template <typename... Parts>
   throw std::invalid_argument(message.str());
 }
 
+// The course functions square lengths and speeds and multiply them: beyond 1e50 (or below 1e-50
+// for a radius) the products overflow or underflow and the results are garbage (circles placed
+// outside a table of radius 1e300, say).
+constexpr double kLargest = 1e50;
+
 void positive_finite(double value, std::string_view name) {
-  if (!(std::isfinite(value) && value > 0)) fail(name, " = ", value, ": must be a positive, finite number");
+  if (!(std::isfinite(value) && value >= 1 / kLargest && value <= kLargest)) {
+    fail(name, " = ", value, ": must be a positive, finite number in [1e-50, 1e50]");
+  }
 }
 
 }  // namespace
@@ -40,8 +47,8 @@ void rows(const Eigen::Matrix<double, Eigen::Dynamic, 2>& rows, int n, std::stri
   count(n);
   if (rows.rows() != n) fail(name, " has ", rows.rows(), " rows: expected one row per circle, n = ", n);
   for (Eigen::Index i = 0; i < rows.rows(); ++i) {
-    if (!rows.row(i).allFinite()) {
-      fail(name, " row ", i, " = (", rows(i, 0), ", ", rows(i, 1), "): must be finite numbers");
+    if (!rows.row(i).allFinite() || rows.row(i).cwiseAbs().maxCoeff() > kLargest) {  // (maxCoeff may skip a nan)
+      fail(name, " row ", i, " = (", rows(i, 0), ", ", rows(i, 1), "): must be finite numbers, at most 1e50 in magnitude");
     }
   }
 }

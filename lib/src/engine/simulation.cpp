@@ -20,7 +20,30 @@ std::string vec(const Vec2& v) { return "(" + number(v.x()) + ", " + number(v.y(
 
 [[noreturn]] void refuse(const std::string& message) { throw std::invalid_argument(message); }
 
-bool finite(const Vec2& v) { return std::isfinite(v.x()) && std::isfinite(v.y()); }
+// The engine squares and multiplies the user's numbers (times of impact, impulses): beyond these
+// magnitudes the products overflow or underflow and the dynamics turns to nan (see
+// simulation.hpp). Both tests are false for nan and infinities.
+constexpr double kLargest = 1e50;    // coordinates, lengths, speeds, accelerations, spins
+constexpr double kSmallest = 1e-50;  // radii, masses and moments of inertia are at least this
+const char* const kBounded = "must be finite and at most 1e50 in magnitude";
+const char* const kScale = "must be positive and finite, in [1e-50, 1e50]";
+bool bounded(double x) { return std::abs(x) <= kLargest; }
+bool bounded(const Vec2& v) { return bounded(v.x()) && bounded(v.y()); }
+bool in_scale(double x) { return x >= kSmallest && x <= kLargest; }
+
+// Positions are computed to about 1e-16 of the coordinates, and validate() allows overlaps of
+// 1e-9 radius: a disc smaller than this fraction of the coordinates it moves among would overlap
+// discs and cross walls by rounding alone (far smaller, it escapes through the walls).
+constexpr double kRelativeRadius = 1e-6;
+
+// The largest coordinate of the container (table, periodic box, boxes and polygons): where discs
+// can go. (Walls outside it, such as a lone segment, are never reached.)
+double container_extent(const Simulation::Engine& e) {
+  double extent = e.has_table ? e.table_radius : 0.0;
+  if (e.periodic) extent = std::max(extent, e.period.maxCoeff());
+  for (const Points& outline : e.outlines) extent = std::max(extent, outline.cwiseAbs().maxCoeff());
+  return extent;
+}
 
 void require_setup(const Simulation::Engine& e, const char* call) {
   if (e.prepared) {
@@ -28,10 +51,25 @@ void require_setup(const Simulation::Engine& e, const char* call) {
   }
 }
 
+// A container or wall with coordinates up to `extent` must leave every disc at least
+// kRelativeRadius of it.
+void check_extent(const Simulation::Engine& e, double extent, const char* call) {
+  if (!e.hot.empty() && e.min_radius < kRelativeRadius * extent) {
+    refuse(std::string(call) + ": coordinates up to " + number(extent) + " are too large for the smallest disc (radius " +
+           number(e.min_radius) + "): radii must be at least 1e-6 of the coordinates");
+  }
+}
+
 // Key of hash cell (ix, iy): the two 32-bit halves (shifted as unsigned: shifting a negative
 // signed value is undefined behaviour).
 std::int64_t hash_key(std::int64_t ix, std::int64_t iy) {
   return static_cast<std::int64_t>((static_cast<std::uint64_t>(ix) << 32) ^ (static_cast<std::uint64_t>(iy) & 0xffffffffULL));
+}
+
+// Hash column of coordinate x, clamped so that a tiny cell far from the origin cannot overflow
+// the integer (clamping keeps cells that are k apart at most k apart, so no overlap is missed).
+std::int64_t hash_column(double x, double cell) {
+  return static_cast<std::int64_t>(std::clamp(std::floor(x / cell), -1e15, 1e15));
 }
 
 }  // namespace
@@ -45,8 +83,7 @@ void Simulation::Engine::rebuild_setup_hash(double cell) {
   setup_hash.cells.clear();
   for (int i = 0; i < static_cast<int>(hot.size()); ++i) {
     const Vec2& p = hot[i].position;
-    setup_hash.cells[hash_key(static_cast<std::int64_t>(std::floor(p.x() / cell)),
-                              static_cast<std::int64_t>(std::floor(p.y() / cell)))].push_back(i);
+    setup_hash.cells[hash_key(hash_column(p.x(), cell), hash_column(p.y(), cell))].push_back(i);
   }
 }
 
@@ -62,14 +99,27 @@ bool Simulation::Engine::overlaps_existing(const Vec2& position, double radius, 
     return d.squaredNorm() < contact * contact;
   };
   const double h = setup_hash.cell;
-  const int reach = static_cast<int>(std::ceil((radius + max_radius) / h));
   // In a periodic box an image across the boundary can overlap: check the wrapped positions too.
   const int images = periodic ? 1 : 0;
+  // A disc much larger than the cells (cells sized by small discs added before) would scan more
+  // cells than there are discs (a hang for a ratio of radii of 10^6): then test every disc.
+  const double reach_cells = std::ceil((radius + max_radius) / h);
+  const double cells = (2 * reach_cells + 1) * (2 * reach_cells + 1) * (2 * images + 1) * (2 * images + 1);
+  if (!(cells <= 4.0 * static_cast<double>(hot.size()) + 64)) {
+    for (int j = 0; j < static_cast<int>(hot.size()); ++j) {
+      if (overlap(j)) {
+        other = j;
+        return true;
+      }
+    }
+    return false;
+  }
+  const int reach = static_cast<int>(reach_cells);
   for (int sy = -images; sy <= images; ++sy) {
     for (int sx = -images; sx <= images; ++sx) {
       const Vec2 p = position + Vec2(sx * period.x(), sy * period.y());
-      const std::int64_t cx = static_cast<std::int64_t>(std::floor(p.x() / h));
-      const std::int64_t cy = static_cast<std::int64_t>(std::floor(p.y() / h));
+      const std::int64_t cx = hash_column(p.x(), h);
+      const std::int64_t cy = hash_column(p.y(), h);
       for (std::int64_t y = cy - reach; y <= cy + reach; ++y) {
         for (std::int64_t x = cx - reach; x <= cx + reach; ++x) {
           const auto found = setup_hash.cells.find(hash_key(x, y));
@@ -89,14 +139,12 @@ bool Simulation::Engine::overlaps_existing(const Vec2& position, double radius, 
 
 void Simulation::Engine::check_disc(const Disc& disc, int index) const {
   const std::string who = "disc " + std::to_string(index);
-  if (!finite(disc.position)) refuse(who + ": position must be finite, got " + vec(disc.position));
-  if (!finite(disc.velocity)) refuse(who + ": velocity must be finite, got " + vec(disc.velocity));
-  if (!(disc.radius > 0) || !std::isfinite(disc.radius)) refuse(who + ": radius must be positive and finite, got " + number(disc.radius));
-  if (!(disc.mass > 0) || !std::isfinite(disc.mass)) refuse(who + ": mass must be positive and finite, got " + number(disc.mass));
-  if (disc.inertia && (!(*disc.inertia > 0) || !std::isfinite(*disc.inertia))) {
-    refuse(who + ": inertia must be positive and finite, got " + number(*disc.inertia));
-  }
-  if (!std::isfinite(disc.spin)) refuse(who + ": spin must be finite, got " + number(disc.spin));
+  if (!bounded(disc.position)) refuse(who + ": position " + kBounded + ", got " + vec(disc.position));
+  if (!bounded(disc.velocity)) refuse(who + ": velocity " + kBounded + ", got " + vec(disc.velocity));
+  if (!in_scale(disc.radius)) refuse(who + ": radius " + kScale + ", got " + number(disc.radius));
+  if (!in_scale(disc.mass)) refuse(who + ": mass " + kScale + ", got " + number(disc.mass));
+  if (disc.inertia && !in_scale(*disc.inertia)) refuse(who + ": inertia " + kScale + ", got " + number(*disc.inertia));
+  if (!bounded(disc.spin)) refuse(who + ": spin " + kBounded + ", got " + number(disc.spin));
   const Vec2& r = disc.position;
   const double a = disc.radius;
   if (has_table && r.norm() > table_radius - a) {
@@ -119,6 +167,10 @@ void Simulation::Engine::check_disc(const Disc& disc, int index) const {
     if (walls[w].kind == WallKind::Circle) continue;
     const double distance = (closest_point(walls[w], r) - r).norm();
     if (distance < a) refuse(who + ": at " + vec(r) + " overlaps wall " + std::to_string(w) + " (distance " + number(distance) + " < radius " + number(a) + ")");
+  }
+  const double extent = std::max(container_extent(*this), r.cwiseAbs().maxCoeff());
+  if (a < kRelativeRadius * extent) {
+    refuse(who + ": radius " + number(a) + " is too small for coordinates up to " + number(extent) + ": radii must be at least 1e-6 of the coordinates");
   }
 }
 
@@ -147,8 +199,7 @@ void Simulation::Engine::add_checked_disc(const Disc& disc) {
     rebuild_setup_hash(2 * max_radius);
   } else {
     const Vec2& p = disc.position;
-    setup_hash.cells[hash_key(static_cast<std::int64_t>(std::floor(p.x() / setup_hash.cell)),
-                              static_cast<std::int64_t>(std::floor(p.y() / setup_hash.cell)))].push_back(i);
+    setup_hash.cells[hash_key(hash_column(p.x(), setup_hash.cell), hash_column(p.y(), setup_hash.cell))].push_back(i);
   }
 }
 
@@ -160,18 +211,23 @@ Simulation::Simulation() : engine_(std::make_unique<Engine>()) {}
 Simulation::~Simulation() = default;
 Simulation::Simulation(Simulation&&) noexcept = default;
 Simulation& Simulation::operator=(Simulation&&) noexcept = default;
-Simulation::Simulation(const Simulation& other) : engine_(std::make_unique<Engine>(*other.engine_)) {}
+// The queue reads the schedules through a pointer set at the first advance: a copy's queue must
+// read the copy's, not the original's (which may change or be gone).
+Simulation::Simulation(const Simulation& other) : engine_(std::make_unique<Engine>(*other.engine_)) {
+  if (engine_->prepared) engine_->queue.set_keys(ScheduledKeys{engine_.get(), engine_->scheduled.data()});
+}
 Simulation& Simulation::operator=(const Simulation& other) {
-  if (this != &other) engine_ = std::make_unique<Engine>(*other.engine_);
+  if (this != &other) *this = Simulation(other);
   return *this;
 }
 
 void Simulation::set_circular_table(double radius) {
   Engine& e = *engine_;
   require_setup(e, "set_circular_table");
-  if (!(radius > 0) || !std::isfinite(radius)) refuse("set_circular_table: radius must be positive and finite, got " + number(radius));
+  if (!(radius > 0) || !bounded(radius)) refuse("set_circular_table: radius must be positive, finite and at most 1e50, got " + number(radius));
   if (e.has_table) refuse("set_circular_table: the table is already set (radius " + number(e.table_radius) + ")");
   if (e.periodic) refuse("set_circular_table: a periodic box has no walls; choose one container");
+  check_extent(e, radius, "set_circular_table");
   for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
     if (e.hot[i].position.norm() > radius - e.hot[i].radius) {
       refuse("set_circular_table: radius " + number(radius) + " leaves disc " + std::to_string(i) + " at " + vec(e.hot[i].position) + " outside");
@@ -185,9 +241,10 @@ void Simulation::set_circular_table(double radius) {
 void Simulation::set_periodic_box(double width, double height) {
   Engine& e = *engine_;
   require_setup(e, "set_periodic_box");
-  if (!(width > 0) || !std::isfinite(width)) refuse("set_periodic_box: width must be positive and finite, got " + number(width));
-  if (!(height > 0) || !std::isfinite(height)) refuse("set_periodic_box: height must be positive and finite, got " + number(height));
+  if (!(width > 0) || !bounded(width)) refuse("set_periodic_box: width must be positive, finite and at most 1e50, got " + number(width));
+  if (!(height > 0) || !bounded(height)) refuse("set_periodic_box: height must be positive, finite and at most 1e50, got " + number(height));
   if (!e.walls.empty() || e.periodic) refuse("set_periodic_box: the periodic box must be the only container (walls or a box are already set)");
+  check_extent(e, std::max(width, height), "set_periodic_box");
   for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
     const Vec2& r = e.hot[i].position;
     if (r.x() < 0 || r.x() >= width || r.y() < 0 || r.y() >= height) {
@@ -219,9 +276,10 @@ void Simulation::set_periodic_box(double width, double height) {
 int Simulation::add_segment(const Vec2& a, const Vec2& b) {
   Engine& e = *engine_;
   require_setup(e, "add_segment");
-  if (!finite(a)) refuse("add_segment: a must be finite, got " + vec(a));
-  if (!finite(b)) refuse("add_segment: b must be finite, got " + vec(b));
-  if (a == b) refuse("add_segment: a and b must differ, both are " + vec(a));
+  if (!bounded(a)) refuse(std::string("add_segment: a ") + kBounded + ", got " + vec(a));
+  if (!bounded(b)) refuse(std::string("add_segment: b ") + kBounded + ", got " + vec(b));
+  // (So close that the squared length underflows, the segment has no direction.)
+  if (!((a - b).squaredNorm() > 0)) refuse("add_segment: a and b must differ, got " + vec(a) + " and " + vec(b));
   if (e.periodic) refuse("add_segment: walls inside a periodic box are not supported");
   const Wall segment{WallKind::Segment, a, b, 0.0};
   for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
@@ -247,11 +305,15 @@ void Simulation::add_polygon(const Points& vertices) {
   if (n < 3) refuse("add_polygon: vertices needs at least 3 rows, got " + std::to_string(n));
   for (int k = 0; k < n; ++k) {
     const Vec2 p = vertices.row(k).transpose();
-    if (!finite(p)) refuse("add_polygon: vertex " + std::to_string(k) + " must be finite, got " + vec(p));
+    if (!bounded(p)) refuse("add_polygon: vertex " + std::to_string(k) + " " + kBounded + ", got " + vec(p));
+  }
+  for (int k = 0; k < n; ++k) {
+    const Vec2 p = vertices.row(k).transpose();
     const Vec2 q = vertices.row((k + 1) % n).transpose();
-    if (p == q) refuse("add_polygon: vertices " + std::to_string(k) + " and " + std::to_string((k + 1) % n) + " coincide at " + vec(p));
+    if (!((p - q).squaredNorm() > 0)) refuse("add_polygon: vertices " + std::to_string(k) + " and " + std::to_string((k + 1) % n) + " coincide at " + vec(p));
   }
   if (e.periodic) refuse("add_polygon: walls inside a periodic box are not supported");
+  check_extent(e, vertices.cwiseAbs().maxCoeff(), "add_polygon");
   // All or nothing: check every disc against the new sides and the new inside test first.
   std::vector<Points> outlines = e.outlines;
   outlines.push_back(vertices);
@@ -270,9 +332,11 @@ void Simulation::add_polygon(const Points& vertices) {
 }
 
 void Simulation::add_box(const Vec2& lower, const Vec2& upper) {
-  if (!finite(lower)) refuse("add_box: lower must be finite, got " + vec(lower));
-  if (!finite(upper)) refuse("add_box: upper must be finite, got " + vec(upper));
-  if (!(upper.x() > lower.x()) || !(upper.y() > lower.y())) refuse("add_box: upper " + vec(upper) + " must exceed lower " + vec(lower) + " in x and y");
+  require_setup(*engine_, "add_box");  // (first, as in every setup call: the call is the mistake)
+  if (!bounded(lower)) refuse(std::string("add_box: lower ") + kBounded + ", got " + vec(lower));
+  if (!bounded(upper)) refuse(std::string("add_box: upper ") + kBounded + ", got " + vec(upper));
+  const Vec2 size = upper - lower;  // (sides whose square underflows have no direction)
+  if (!(size.x() > 0 && size.y() > 0 && size.x() * size.x() > 0 && size.y() * size.y() > 0)) refuse("add_box: upper " + vec(upper) + " must exceed lower " + vec(lower) + " in x and y");
   Points corners(4, 2);
   corners << lower.x(), lower.y(), upper.x(), lower.y(), upper.x(), upper.y(), lower.x(), upper.y();
   add_polygon(corners);
@@ -281,7 +345,9 @@ void Simulation::add_box(const Vec2& lower, const Vec2& upper) {
 void Simulation::set_gravity(const Vec2& g) {
   Engine& e = *engine_;
   require_setup(e, "set_gravity");
-  if (!finite(g)) refuse("set_gravity: g must be finite, got " + vec(g));
+  if (!bounded(g)) refuse(std::string("set_gravity: g ") + kBounded + ", got " + vec(g));
+  // (The times of impact under gravity use |g|^2, which must not underflow.)
+  if (g.cwiseAbs().maxCoeff() > 0 && g.cwiseAbs().maxCoeff() < kSmallest) refuse("set_gravity: g must be 0 or at least 1e-50 in magnitude, got " + vec(g));
   e.gravity = g;
   e.has_gravity = g.x() != 0 || g.y() != 0;
 }
@@ -346,6 +412,9 @@ void Simulation::set_cell_size(double size) {
 void Simulation::set_prefetch_ahead(Prefetch mode) {
   Engine& e = *engine_;
   require_setup(e, "set_prefetch_ahead");
+  if (mode != Prefetch::Automatic && mode != Prefetch::On && mode != Prefetch::Off) {
+    refuse("set_prefetch_ahead: mode must be Automatic, On or Off, got " + std::to_string(static_cast<int>(mode)));
+  }
   e.prefetch_mode = mode;
 }
 
@@ -369,6 +438,9 @@ int Simulation::add_discs(const Points& positions, const Points& velocities, dou
   if (velocities.rows() != positions.rows()) {
     refuse("add_discs: velocities has " + std::to_string(velocities.rows()) + " rows, positions " + std::to_string(positions.rows()));
   }
+  // (Also with no rows, so that a bad radius or mass is never silently accepted.)
+  if (!in_scale(radius)) refuse(std::string("add_discs: radius ") + kScale + ", got " + number(radius));
+  if (!in_scale(mass)) refuse(std::string("add_discs: mass ") + kScale + ", got " + number(mass));
   const int first = static_cast<int>(e.hot.size());
   const Engine saved = e;  // all or nothing
   try {
@@ -391,9 +463,9 @@ int Simulation::add_random_discs(int n, double radius, double mass, double kT, s
   Engine& e = *engine_;
   require_setup(e, "add_random_discs");
   if (n < 0) refuse("add_random_discs: n must be >= 0, got " + std::to_string(n));
-  if (!(radius > 0) || !std::isfinite(radius)) refuse("add_random_discs: radius must be positive and finite, got " + number(radius));
-  if (!(mass > 0) || !std::isfinite(mass)) refuse("add_random_discs: mass must be positive and finite, got " + number(mass));
-  if (!(kT >= 0) || !std::isfinite(kT)) refuse("add_random_discs: kT must be >= 0 and finite, got " + number(kT));
+  if (!in_scale(radius)) refuse(std::string("add_random_discs: radius ") + kScale + ", got " + number(radius));
+  if (!in_scale(mass)) refuse(std::string("add_random_discs: mass ") + kScale + ", got " + number(mass));
+  if (!(kT >= 0) || !bounded(kT)) refuse("add_random_discs: kT must be >= 0, finite and at most 1e50, got " + number(kT));
 
   // Where centres may lie: the container's bounding box.
   Vec2 lo, hi;
@@ -414,6 +486,21 @@ int Simulation::add_random_discs(int n, double radius, double mass, double kT, s
     }
   } else {
     refuse("add_random_discs: set a closed container first (a circular table, a box, a polygon or a periodic box)");
+  }
+  const double extent = container_extent(e);
+  if (radius < kRelativeRadius * extent) {
+    refuse("add_random_discs: radius " + number(radius) + " is too small for the container's coordinates up to " + number(extent) +
+           ": radii must be at least 1e-6 of the coordinates");
+  }
+  // Equal discs in a convex region of area A (the table, or the bounding box of the walls) or in
+  // a periodic box number at most A / (2 sqrt(3) radius^2) + 1 (Thue; Groemer's bound for finite
+  // packings): refuse more at once, instead of spending the placement budgets below on them (60 n
+  // tries: hours for n near 2^31).
+  const double area = e.has_table ? M_PI * e.table_radius * e.table_radius : (hi.x() - lo.x()) * (hi.y() - lo.y());
+  const double most = area / (2 * std::sqrt(3.0) * radius * radius) + 1;
+  if (n > most) {
+    refuse("add_random_discs: n = " + std::to_string(n) + " discs of radius " + number(radius) + " cannot fit in the container (area " +
+           number(area) + ": at most " + number(std::floor(most)) + " fit even in the densest packing); use fewer or smaller discs");
   }
 
   const int first = static_cast<int>(e.hot.size());
@@ -451,6 +538,14 @@ int Simulation::add_random_discs(int n, double radius, double mass, double kT, s
       const double spacing = 2 * radius * (1 + 1e-9);
       double dx = spacing, dy = spacing * std::sqrt(3.0) / 2;
       Vec2 offset(std::uniform_real_distribution<double>(0, dx)(rng), std::uniform_real_distribution<double>(0, dy)(rng));
+      // The sites cover the bounding box, which can be far larger than a thin polygon inside it:
+      // refuse rather than fill the memory (or overflow the counts).
+      const double site_count = (std::ceil((hi.x() - lo.x()) / dx) + 1) * (std::ceil((hi.y() - lo.y()) / dy) + 1);
+      if (!(site_count <= 64.0 * n + 1e6)) {
+        refuse("add_random_discs: only " + std::to_string(placed) + " of n = " + std::to_string(n) + " discs of radius " + number(radius) +
+               " fit at random, and a lattice over the container's bounding box would need " + number(site_count) +
+               " sites; use fewer or larger discs");
+      }
       int columns = static_cast<int>(std::ceil((hi.x() - lo.x()) / dx)) + 1;
       int rows = static_cast<int>(std::ceil((hi.y() - lo.y()) / dy)) + 1;
       if (e.periodic) {
@@ -579,12 +674,12 @@ State Simulation::replay_after_event(std::size_t k) const {
 }
 
 State Simulation::replay_at(double t) const {
-  if (!std::isfinite(t) || t < initial_state().time) refuse("replay_at: time must be finite and >= the initial time, got " + number(t));
+  if (!std::isfinite(t) || t < initial_state().time) refuse("replay_at: t must be finite and >= the initial time " + number(initial_state().time) + ", got " + number(t));
   return Replay(*this).at(t);
 }
 
 std::string Simulation::validate(double tolerance) {
-  if (!(tolerance >= 0)) refuse("validate: tolerance must be >= 0, got " + number(tolerance));
+  if (!(tolerance >= 0) || !std::isfinite(tolerance)) refuse("validate: tolerance must be >= 0 and finite, got " + number(tolerance));
   Engine& e = *engine_;
   e.problem = e.check(tolerance);
   return e.problem;

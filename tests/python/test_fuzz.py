@@ -1,0 +1,652 @@
+"""Fuzzing of the Python module: thousands of random bad calls to billiard.Simulation's methods
+and to the six course functions, from a fixed seed (BILLIARD_FUZZ_SEED=k explores another).
+
+The rule for errors, checked on every call:
+  - a wrong value (nan, infinities, beyond the documented 1e50 / 1e-50, a negative count, an
+    array of the wrong shape, complex, boolean, text or object numbers, a read-only,
+    non-contiguous or non-float64 array where a course function writes in place): ValueError whose
+    message names the argument;
+  - a wrong Python type for a scalar (None, a string or a list for a number, a float for an int),
+    an int beyond the C++ parameter's range (n >= 2**31, a negative seed for add_random_discs), or
+    anything but a numpy array for a course function's array: TypeError from pybind11, whose
+    message lists the signature with the argument's name;
+  - a setup call after the first advance(), or advance() without a container: RuntimeError
+    (std::logic_error). Arguments are converted first, so a conversion error (the two above)
+    wins over it; a convertible but bad value after the start is the RuntimeError.
+After every refusal the simulation is unchanged (its whole state, bit for bit), still valid, and
+advances exactly like an untouched twin; the course functions leave their in-place arrays
+untouched. Valid calls with extreme values must keep the simulation valid and finite."""
+
+import math
+import os
+import random
+import struct
+import sys
+from collections import Counter, namedtuple
+
+import numpy as np
+import pytest
+
+import billiard
+
+SEED = int(os.environ.get("BILLIARD_FUZZ_SEED", "24301"))
+NAN, INF = math.nan, math.inf
+HUGE = sys.float_info.max
+DENORMAL = 5e-324
+
+
+# ---- Values ---------------------------------------------------------------------------------
+
+class Unreadable:
+    """numpy cannot turn it into an array: its __array__ raises."""
+
+    def __array__(self, *args, **kwargs):
+        raise RuntimeError("no array here")
+
+
+NOT_FINITE_OR_HUGE = [NAN, -NAN, INF, -INF, 1e308, -1e308, HUGE, 1e51, -1e51]
+BAD_SCALES = NOT_FINITE_OR_HUGE + [0.0, -0.0, -1.0, -DENORMAL, DENORMAL, 1e-308, 1e-51]  # radius, mass, inertia
+BAD_NONNEGATIVE = [NAN, INF, -INF, -1.0, -DENORMAL, -1e308]
+NOT_FLOATS = [None, "1.0", [1.0], (1.0,), {}, object(), 1j, b"1", 10**400]
+NOT_INTS = [2.5, "3", None, [3], 3.0, np.float64(3.0)]
+BEYOND_INT = [2**31, -2**31 - 1, 2**63, 2**100, -2**100]
+BEYOND_INT64 = [2**63, -2**63 - 1, 2**100]
+BEYOND_UINT64 = [-1, 2**64, -2**70]
+NOT_POINTS = [None, "ab", [1.0, 2.0, 3.0], [1.0], [], [[1, 2], [3, 4]], {"x": 1}, object(), Unreadable(),
+              np.array([1 + 1j, 2]), np.array([True, False]), np.array(["1", "2"]), [1.0, None], [[1, 2], [3]]]
+NOT_ARRAYS = [None, "abc", np.zeros(3), np.zeros((3, 3)), np.zeros((2, 2, 2)), np.zeros(0), 5.0, [[1, 2], [3]],
+              np.zeros((3, 2), complex), np.zeros((3, 2), bool), np.array([["1", "2"]]),
+              np.array([[1.0, None]], dtype=object), Unreadable()]
+
+
+def bad_point(rng):
+    good = rng.uniform(-3, 3)
+    bad = rng.choice(NOT_FINITE_OR_HUGE)
+    return rng.choice([(bad, good), (good, bad), (bad, bad)])
+
+
+def bits(x):
+    """x as exact bits, to compare states bit for bit (nan == nan, 0.0 != -0.0)."""
+    if isinstance(x, np.ndarray):
+        return ("array", x.dtype.str, x.shape, x.tobytes())
+    if isinstance(x, float):
+        return ("float", struct.pack("<d", x))
+    if isinstance(x, dict):
+        return {key: bits(value) for key, value in x.items()}
+    if isinstance(x, (list, tuple)):
+        return tuple(bits(value) for value in x)
+    return x
+
+
+def first_difference(before, after):
+    for key in before:
+        if before[key] != after.get(key):
+            return key
+    return None
+
+
+# ---- Simulations --------------------------------------------------------------------------------
+
+Start = namedtuple("Start", "name make container started")
+
+
+def _table():
+    sim = billiard.Simulation()
+    sim.set_circular_table(10.0)
+    sim.add_random_discs(20, 0.5, seed=1)
+    return sim
+
+
+def _box():
+    sim = billiard.Simulation()
+    sim.add_box((0.0, 0.0), (20.0, 10.0))
+    sim.add_disc((1.0, 1.0), (1.0, 0.0), radius=0.3, mass=0.5)
+    sim.add_random_discs(25, 0.4, mass=2.0, seed=2)
+    return sim
+
+
+def _periodic():
+    sim = billiard.Simulation()
+    sim.set_periodic_box(20.0, 15.0)
+    sim.add_random_discs(30, 0.5, seed=3)
+    return sim
+
+
+def _polygon():
+    sim = billiard.Simulation()
+    angles = np.arange(6) * np.pi / 3
+    sim.add_polygon(10 * np.column_stack([np.cos(angles), np.sin(angles)]))
+    sim.add_segment((-2.0, -2.0), (2.0, 3.0))
+    sim.add_random_discs(15, 0.6, seed=4)
+    return sim
+
+
+def _gravity():
+    sim = billiard.Simulation()
+    sim.add_box((0.0, 0.0), (15.0, 15.0))
+    sim.set_gravity((0.1, -2.0))
+    sim.add_random_discs(20, 0.5, seed=5)
+    return sim
+
+
+def _started():
+    sim = billiard.Simulation()
+    sim.add_box((0.0, 0.0), (20.0, 20.0))
+    sim.add_random_discs(30, 0.5, seed=6)
+    sim.enable_event_log(True)
+    sim.advance(events=200)
+    return sim
+
+
+def _rough_periodic_started():
+    sim = billiard.Simulation()
+    sim.set_periodic_box(15.0, 15.0)
+    sim.set_restitution(0.9, 0.5)
+    sim.add_random_discs(25, 0.5, seed=7)
+    sim.enable_event_log(True)
+    sim.advance(events=100)
+    return sim
+
+
+def _discs_only():
+    sim = billiard.Simulation()
+    sim.add_disc((1.0, 2.0), (0.5, -1.0))
+    return sim
+
+
+def _empty_table_started():
+    sim = billiard.Simulation()
+    sim.set_circular_table(3.0)
+    sim.advance(events=10, time=1.0)
+    return sim
+
+
+STARTS = [
+    Start("empty", lambda: billiard.Simulation(), False, False),
+    Start("discs without a container", _discs_only, False, False),
+    Start("table", _table, True, False),
+    Start("box", _box, True, False),
+    Start("periodic box", _periodic, True, False),
+    Start("polygon and a segment", _polygon, True, False),
+    Start("box with gravity", _gravity, True, False),
+    Start("box after 200 collisions, event log on", _started, True, True),
+    Start("rough periodic box after 100 collisions", _rough_periodic_started, True, True),
+    Start("table without discs, started", _empty_table_started, True, True),
+]
+
+
+def snapshot(sim):
+    return bits({
+        "len": len(sim), "time": sim.time, "current_state": sim.current_state, "initial_state": sim.initial_state,
+        "walls": sim.walls, "gravity": sim.gravity, "period": sim.period, "table_radius": sim.table_radius,
+        "totals": sim.totals, "event_log": sim.event_log, "kinetic_energy": sim.kinetic_energy(),
+        "potential_energy": sim.potential_energy(), "contact_duration": sim.contact_duration,
+        "elastic_impact_speed": sim.elastic_impact_speed,
+    })
+
+
+def finite(sim):
+    state = sim.current_state
+    return all(np.isfinite(state[key]).all() for key in ("position", "velocity", "spin")) and math.isfinite(sim.time)
+
+
+# ---- Calls ----------------------------------------------------------------------------------------
+
+# kind: "value" (the library refuses it: ValueError, or RuntimeError when a setup call comes after
+# the start), "convert" (the binding cannot read it: ValueError before any check of the state),
+# "type" (pybind11 finds no overload: TypeError), "either" (valid, maybe extreme: accepted or
+# refused for the state, e.g. a disc outside the table). names: one must be in the message.
+Call = namedtuple("Call", "text run kind names setup advances", defaults=(True, False))
+
+
+def call(text, run, kind, names, setup=True, advances=False):
+    return Call(text, run, kind, [names] if isinstance(names, str) else names, setup, advances)
+
+
+def float_argument(rng, bad_values, optional=False):
+    """A bad value for a float parameter: (value, kind). (None is valid where it means "automatic".)"""
+    if rng.random() < 0.25:
+        return rng.choice([x for x in NOT_FLOATS if not (optional and x is None)]), "type"
+    return rng.choice(bad_values), "value"
+
+
+def point_argument(rng):
+    return (rng.choice(NOT_POINTS), "convert") if rng.random() < 0.4 else (bad_point(rng), "value")
+
+
+def array_argument(rng, rows=3):
+    """A bad (n, 2) array for the Simulation (copied, so any layout or writability is fine)."""
+    if rng.random() < 0.5:
+        return rng.choice(NOT_ARRAYS), "convert"
+    array = np.array([[rng.uniform(-3, 3), rng.uniform(-3, 3)] for _ in range(max(rows, 1))])
+    array[rng.randrange(len(array)), rng.randrange(2)] = rng.choice(NOT_FINITE_OR_HUGE)
+    return array, "value"
+
+
+def bad_simulation_call(rng, start):
+    choice = rng.randrange(17)
+    if choice == 0:
+        r, kind = float_argument(rng, BAD_SCALES[:9] + [0.0, -0.0, -1.0, -DENORMAL])
+        return call(f"set_circular_table({r!r})", lambda s: s.set_circular_table(r), kind, "radius")
+    if choice == 1:
+        bad, kind = float_argument(rng, NOT_FINITE_OR_HUGE + [0.0, -0.0, -1.0])
+        if rng.random() < 0.5:
+            return call(f"set_periodic_box({bad!r}, 20)", lambda s: s.set_periodic_box(bad, 20.0), kind, "width")
+        return call(f"set_periodic_box(20, {bad!r})", lambda s: s.set_periodic_box(20.0, bad), kind, "height")
+    if choice == 2:
+        (p, kind), q = point_argument(rng), (1.0, 1.0)
+        if rng.random() < 0.5:
+            return call(f"add_segment({p!r}, {q})", lambda s: s.add_segment(p, q), kind, "a ")
+        return call(f"add_segment({q}, {p!r})", lambda s: s.add_segment(q, p), kind, "b ")
+    if choice == 3:
+        p, kind = point_argument(rng)
+        if rng.random() < 0.5:
+            return call(f"add_box({p!r}, (30, 30))", lambda s: s.add_box(p, (30.0, 30.0)), kind, "lower")
+        return call(f"add_box((-30, -30), {p!r})", lambda s: s.add_box((-30.0, -30.0), p), kind, "upper")
+    if choice == 4:
+        vertices, kind = array_argument(rng, rows=rng.choice([2, 4, 5]))
+        names = ["vertices", "vertex"] if kind == "value" else "vertices"
+        return call(f"add_polygon({vertices!r})", lambda s: s.add_polygon(vertices), kind, names)
+    if choice == 5:
+        g, kind = point_argument(rng)
+        return call(f"set_gravity({g!r})", lambda s: s.set_gravity(g), kind, "g ")
+    if choice == 6:
+        if rng.random() < 0.5:
+            n, kind = float_argument(rng, [NAN, INF, -INF, -0.1, 1.5, 1.0000000000000002, -DENORMAL, 1e308])
+            return call(f"set_restitution({n!r})", lambda s: s.set_restitution(n), kind, "normal", setup=False)
+        t, kind = float_argument(rng, [NAN, INF, -INF, -1.0000000000000002, 1.5, -2.0, 1e308])
+        return call(f"set_restitution(0.9, {t!r})", lambda s: s.set_restitution(0.9, t), kind, "tangential", setup=False)
+    if choice == 7:
+        size, kind = float_argument(rng, BAD_NONNEGATIVE)
+        return call(f"set_cell_size({size!r})", lambda s: s.set_cell_size(size), kind, "size")
+    if choice == 8:
+        mode = rng.choice(["sometimes", "", "ON", "Auto", " on", None, 1, True])
+        kind = "convert" if isinstance(mode, str) else "type"  # (the binding reads the string)
+        return call(f"set_prefetch_ahead({mode!r})", lambda s: s.set_prefetch_ahead(mode), kind, "mode")
+    if choice in (9, 10):
+        return bad_disc(rng, start)
+    if choice == 11:
+        return bad_discs(rng)
+    if choice == 12:
+        return bad_random_discs(rng, start)
+    if choice == 13:
+        if rng.random() < 0.5:
+            events = rng.choice([-1, -2**31, -2**62] + BEYOND_INT64 + NOT_INTS[:2])
+            kind = "value" if isinstance(events, int) and -2**63 <= events < 2**63 else "type"
+            return call(f"advance(events={events!r})", lambda s: s.advance(events=events), kind, "events", setup=False)
+        duration, kind = float_argument(rng, [NAN, -INF, -1.0, -DENORMAL, -1e308], optional=True)
+        return call(f"advance(10, time={duration!r})", lambda s: s.advance(events=10, time=duration), kind, "time",
+                    setup=False)
+    if choice == 14:
+        tolerance, kind = float_argument(rng, BAD_NONNEGATIVE + [INF])
+        return call(f"validate({tolerance!r})", lambda s: s.validate(tolerance), kind, "tolerance", setup=False)
+    if choice == 15:
+        if rng.random() < 0.5:
+            dt = rng.choice([NAN, 0.0, -0.0, -1.0, -INF, None, "0.1"])
+            kind = "type" if dt is None or isinstance(dt, str) else "value"
+            return call(f"replay_by_time({dt!r})", lambda s: next(s.replay_by_time(dt)), kind, "dt", setup=False)
+        until = rng.choice([NAN, INF, -INF, "later"])
+        kind = "type" if isinstance(until, str) else "value"
+        return call(f"replay_by_time(0.1, until={until!r})", lambda s: next(s.replay_by_time(0.1, until)), kind, "until",
+                    setup=False)
+    value, kind = float_argument(rng, BAD_NONNEGATIVE, optional=True)
+    if rng.random() < 0.5:
+        return call(f"set_contact_duration({value!r})", lambda s: s.set_contact_duration(value), kind, "duration",
+                    setup=False)
+    return call(f"set_elastic_impact_speed({value!r})", lambda s: s.set_elastic_impact_speed(value), kind, "speed",
+                setup=False)
+
+
+def bad_disc(rng, start):
+    args = {"position": (rng.uniform(-3, 3), rng.uniform(-3, 3)), "velocity": (rng.uniform(-2, 2), 0.5),
+            "radius": rng.uniform(0.1, 1), "mass": rng.uniform(0.5, 2), "inertia": None, "spin": 0.0}
+    field = rng.choice(list(args))
+    if field in ("position", "velocity"):
+        args[field], kind = point_argument(rng)
+    elif field == "spin":
+        args[field], kind = float_argument(rng, NOT_FINITE_OR_HUGE)
+    else:
+        args[field], kind = float_argument(rng, BAD_SCALES, optional=field == "inertia")
+    return call(f"add_disc(**{args!r})", lambda s: s.add_disc(**args), kind, field)
+
+
+def bad_discs(rng):
+    rows = rng.randrange(0, 5)
+    positions = np.array([[rng.uniform(-4, 4), rng.uniform(-4, 4)] for _ in range(rows)]).reshape(rows, 2)
+    velocities = np.zeros((rows, 2))
+    radius, mass = 0.1, 1.0
+    choice = rng.randrange(5)
+    if choice == 0:
+        velocities, kind, names = np.zeros((rows + rng.randrange(1, 3), 2)), "value", "velocities has"
+    elif choice == 1:
+        (radius, kind), names = float_argument(rng, BAD_SCALES), "radius"
+    elif choice == 2:
+        (mass, kind), names = float_argument(rng, BAD_SCALES), "mass"
+    elif choice == 3:
+        positions, kind = array_argument(rng, rows)
+        velocities = np.zeros((len(positions) if kind == "value" else rows, 2))
+        # (an earlier row may conflict with the state first: overlapping, outside, too small)
+        names = "positions" if kind == "convert" else ["position", "overlaps", "outside", "too small"]
+    else:
+        velocities, kind = array_argument(rng, rows)
+        positions = np.zeros((len(velocities) if kind == "value" else rows, 2))
+        names = "velocities" if kind == "convert" else ["velocity", "overlaps", "outside", "too small"]
+    return call(f"add_discs({positions!r}, {velocities!r}, {radius!r}, {mass!r})",
+                lambda s: s.add_discs(positions, velocities, radius, mass), kind, names)
+
+
+def bad_random_discs(rng, start):
+    args = {"n": rng.randrange(1, 40), "radius": rng.uniform(0.05, 0.3), "mass": 1.0, "kT": 1.0, "seed": rng.randrange(2**64)}
+    choice = rng.randrange(6)
+    if choice == 0:
+        args["n"] = rng.choice([-1, -2**31, -rng.randrange(1, 2**31)] + BEYOND_INT + NOT_INTS)
+        kind, names = ("value", "n must") if isinstance(args["n"], int) and -2**31 <= args["n"] < 2**31 else ("type", "n")
+    elif choice in (1, 2):
+        field = "radius" if choice == 1 else "mass"
+        args[field], kind = float_argument(rng, BAD_SCALES)
+        names = field
+    elif choice == 3:
+        args["kT"], kind = float_argument(rng, BAD_NONNEGATIVE + [1e308])
+        names = "kT"
+    elif choice == 4:
+        args["seed"] = rng.choice(BEYOND_UINT64 + NOT_INTS)
+        kind, names = "type", "seed"
+    else:  # impossible packings: refused at once, however large n is
+        args["n"], args["radius"] = rng.choice([2**31 - 1, 2**30, 10**6, 10**5]), rng.uniform(0.5, 2)
+        kind, names = "value", (["fit", "too small"] if start.container else "container")
+    return call(f"add_random_discs(**{args!r})", lambda s: s.add_random_discs(**args), kind, names)
+
+
+def plausible_simulation_call(rng):
+    """A valid call, sometimes with extreme values (the documented limits, -0.0, denormals)."""
+    def extreme(typical):
+        if rng.random() < 0.5:
+            return rng.uniform(-typical, typical)
+        return rng.choice([0.0, -0.0, DENORMAL, -1e-308, 1e50, -1e50, 1e-50, typical])
+
+    def extreme_scale(typical):
+        return rng.uniform(0.1, 1) * typical if rng.random() < 0.5 else rng.choice([1e-50, 1e50, 1e-20, 1e20, typical])
+
+    choice = rng.randrange(9)
+    if choice <= 2:
+        position, velocity = (extreme(10), extreme(10)), (extreme(3), extreme(3))
+        radius, mass = extreme_scale(0.5), extreme_scale(1.0)
+        layout = rng.choice(["tuple", "array", "read-only", "strided"])
+        if layout != "tuple":
+            position = np.array([position[0], 7.0, position[1]])[::2] if layout == "strided" else np.array(position)
+            position.flags.writeable = layout != "read-only"
+        return call(f"add_disc({position!r}, {velocity!r}, {radius!r}, {mass!r})",
+                    lambda s: s.add_disc(position, velocity, radius, mass), "either", [])
+    if choice == 3:
+        g = (extreme(5), extreme(5))
+        return call(f"set_gravity({g!r})", lambda s: s.set_gravity(g), "either", [])
+    if choice == 4:
+        a, b = (extreme(20), extreme(20)), (extreme(20), extreme(20))
+        return call(f"add_segment({a!r}, {b!r})", lambda s: s.add_segment(a, b), "either", [])
+    if choice == 5:
+        size = rng.choice([0.0, -0.0, DENORMAL, 1e-300, 0.5, 3.0, 1e50, 1e308, HUGE])
+        return call(f"set_cell_size({size!r})", lambda s: s.set_cell_size(size), "either", [])
+    if choice == 6:
+        n, radius, kT = rng.randrange(0, 30), rng.choice([1e-50, 1e-10, 0.1, 0.3]), rng.choice([0.0, 1e-300, 1.0, 1e50])
+        seed = rng.randrange(2**64)
+        positions = np.zeros((0, 2))[:, ::-1]  # (a valid empty, non-contiguous array)
+        return call(f"add_random_discs({n}, {radius!r}, kT={kT!r}) and add_discs(empty)",
+                    lambda s: (s.add_random_discs(n, radius, kT=kT, seed=seed), s.add_discs(positions, positions, 0.1)),
+                    "either", [])
+    if choice == 7:
+        # (not a normal restitution of 0: see FuzzApi.DISABLED_InelasticDiscsStayOnTheTable in test_fuzz_api.cpp)
+        normal, tangential = rng.choice([1e-3, 0.5, 0.9, 1.0]), rng.choice([-1.0, 0.0, -0.0, 1.0])
+        return call(f"set_restitution({normal!r}, {tangential!r})", lambda s: s.set_restitution(normal, tangential),
+                    "either", [], setup=False)
+    events, duration = rng.choice([None, 0, 1, 50]), rng.choice([None, 0.0, -0.0, DENORMAL, 0.5, INF])
+    if events is None and (duration is None or duration == INF):  # (no limit at all would never end)
+        events = 5
+    return call(f"advance({events!r}, {duration!r})", lambda s: s.advance(events=events, time=duration), "either", [],
+                setup=False, advances=True)
+
+
+def expected(start, c):
+    """The exception the call must raise (None: any outcome) and the names one of which it shows."""
+    if c.kind == "type":
+        return TypeError, [f"{name.strip()}:" for name in c.names] + [f"{name.strip()}=" for name in c.names]
+    if c.kind == "convert":
+        return ValueError, c.names
+    if c.setup and start.started:
+        return RuntimeError, ["started"]
+    if c.kind == "value":
+        return ValueError, c.names
+    if c.advances and not start.container:
+        return RuntimeError, ["no container"]
+    return None, []
+
+
+def check(start, c, counts):
+    where = f"{start.name}: {c.text}"
+    sim, twin = start.make(), start.make()
+    before = snapshot(sim)
+    error, names = expected(start, c)
+    try:
+        c.run(sim)
+    except (ValueError, TypeError, RuntimeError) as raised:
+        message = str(raised)
+        counts[type(raised).__name__] += 1
+        if error is not None:
+            assert type(raised) is error, f"{where}: {type(raised).__name__} instead of {error.__name__}: {message}"
+            assert any(name in message for name in names), f"{where}: the message names none of {names}: {message}"
+        else:
+            assert type(raised) is ValueError, f"{where}: {type(raised).__name__}: {message}"
+    else:
+        assert error is None, f"{where}: accepted, expected {error.__name__}"
+        counts["accepted"] += 1
+        assert sim.validate() == "", where
+        assert finite(sim), where
+        if start.container:
+            sim.advance(events=20)
+            assert sim.validate() == "" and finite(sim), where
+        return
+    # Refused: the same simulation as before, bit for bit, valid, and it goes on like its twin.
+    changed = first_difference(before, snapshot(sim))
+    assert changed is None, f"{where}: the refused call changed {changed}"
+    assert sim.validate() == "", where
+    if start.container:
+        sim.advance(events=20)
+        twin.advance(events=20)
+        changed = first_difference(snapshot(twin), snapshot(sim))
+        assert changed is None, f"{where}: after the refused call, advancing gives a different {changed}"
+
+
+needs_simulation = pytest.mark.skipif(not hasattr(billiard, "Simulation"),
+                                      reason="this build has no billiard.Simulation (the engine library is not built)")
+
+
+@needs_simulation
+def test_bad_calls_to_the_simulation_raise_naming_the_argument_and_change_nothing():
+    rng = random.Random(SEED)
+    counts = Counter()
+    calls = 4000
+    for k in range(calls):
+        start = rng.choice(STARTS)
+        c = plausible_simulation_call(rng) if k % 5 == 4 else bad_simulation_call(rng, start)
+        check(start, c, counts)
+    refused = counts["ValueError"] + counts["TypeError"] + counts["RuntimeError"]
+    print(f"python Simulation fuzz (seed {SEED}): {calls} calls, {counts['ValueError']} ValueError, "
+          f"{counts['TypeError']} TypeError, {counts['RuntimeError']} RuntimeError, {counts['accepted']} accepted; "
+          "every refusal left the simulation unchanged")
+    assert refused + counts["accepted"] == calls
+    assert counts["ValueError"] > calls // 3 and counts["TypeError"] > calls // 20 and counts["RuntimeError"] > calls // 20
+    assert counts["accepted"] > calls // 20
+
+
+# ---- Course functions -----------------------------------------------------------------------------
+
+R, A = 10.0, 1.0
+CIRCLES = np.array([[0.0, 0.0], [3.0, 0.0], [-3.0, 4.0]])
+SPEEDS = np.array([[1.0, 0.5], [-1.0, 0.0], [0.0, -1.0]])
+
+
+def course_array(rng, name, in_place):
+    """A bad array for a course function: (value, kind, names)."""
+    choice = rng.randrange(5 if in_place else 3)
+    if choice == 0:  # not a numpy array at all
+        return rng.choice([None, "abc", [[1.0, 2.0]], 5.0, Unreadable()]), "type", [f"{name}:"]
+    if choice == 1:
+        return rng.choice([x for x in NOT_ARRAYS if isinstance(x, np.ndarray)]), "value", [name]
+    if choice == 2:  # finite numbers only, at most 1e50
+        array = (CIRCLES if name == "coordinates" else SPEEDS).copy()
+        array[rng.randrange(3), rng.randrange(2)] = rng.choice(NOT_FINITE_OR_HUGE)
+        return array, "value", [name]
+    base = (CIRCLES if name == "coordinates" else SPEEDS).copy()
+    if choice == 3:  # not writable in place
+        layout = rng.choice(["read-only", "strided", "fortran", "float32", "int"])
+        if layout == "read-only":
+            base.flags.writeable = False
+        elif layout == "strided":
+            base = np.repeat(base, 2, axis=0)[::2]
+        elif layout == "fortran":
+            base = np.asfortranarray(base)
+        else:
+            base = base.astype(np.float32 if layout == "float32" else np.int64)
+        return base, "value", [name]
+    return base[:2], "value", [name, "rows"]  # one row too few for the other array
+
+
+def bad_course_call(rng, tmp_path):
+    coordinates, velocities = CIRCLES.copy(), SPEEDS.copy()
+    svg = tmp_path / "fuzz.svg"
+    radius_bad = BAD_SCALES + [None, "10", [10.0], 10**400]
+
+    def radius_kind(value):
+        return "type" if value is None or isinstance(value, (str, list)) or value == 10**400 else "value"
+
+    function = rng.choice(["init_billiard", "init_velocities", "visualize_table", "propagate", "movie",
+                           "kinetic_energy", "correct_energy_drift"])
+    choice = rng.randrange(4)
+    if function == "init_billiard":
+        args = {"table_radius": R, "circle_radius": A, "n": 5, "rng": 1}
+        if choice == 0:
+            field = rng.choice(["table_radius", "circle_radius"])
+            args[field] = rng.choice(radius_bad)
+            kind, names = radius_kind(args[field]), [field, f"{field}:"]
+        elif choice == 1:
+            args["n"] = rng.choice([-1, -2**31, 10**6, 2**31 - 1] + BEYOND_INT + NOT_INTS)
+            in_range = isinstance(args["n"], int) and -2**31 <= args["n"] < 2**31
+            kind, names = ("value", ["n ="]) if in_range else ("type", ["n:"])
+        elif choice == 2:
+            args["rng"] = rng.choice(BEYOND_UINT64 + [2.5, "seed", None, np.int64(3)])
+            kind, names = "value", ["rng"]
+        else:
+            args["circle_radius"] = rng.choice([R, 2 * R, 1e50])
+            kind, names = "value", ["circle_radius"]
+        return function, args, kind, names, []
+    if function == "init_velocities":
+        args = {"coordinates": coordinates, "rng": 1}
+        if choice < 3:
+            args["coordinates"], kind, names = course_array(rng, "coordinates", False)
+        else:
+            args["rng"] = rng.choice(BEYOND_UINT64 + [2.5, "seed", None, Unreadable()])
+            kind, names = "value", ["rng"]
+        return function, args, kind, names, []
+    if function == "kinetic_energy":
+        velocities, kind, names = course_array(rng, "velocities", False)
+        return function, {"velocities": velocities}, kind, names, []
+    if function == "correct_energy_drift":
+        args = {"velocities": velocities, "target_mean_square": 2.0}
+        if choice < 2:
+            args["velocities"], kind, names = course_array(rng, "velocities", True)
+            if names == ["velocities", "rows"]:  # (one array only: two rows are fine)
+                args["velocities"], kind, names = np.zeros((3, 2)), "value", ["velocities"]  # at rest
+        else:
+            args["target_mean_square"] = rng.choice(BAD_NONNEGATIVE + [None, "2"])
+            kind = "type" if args["target_mean_square"] is None or isinstance(args["target_mean_square"], str) else "value"
+            names = ["target_mean_square"]
+        return function, args, kind, names, ["velocities"]
+    # visualize_table, propagate, movie: radii, coordinates, velocities (and collisions, svg_file)
+    args = {"table_radius": R, "circle_radius": A, "coordinates": coordinates}
+    if function != "visualize_table":
+        args["velocities"] = velocities
+    if function == "movie":
+        args["collisions"] = 3
+    if function != "propagate":
+        args["svg_file"] = svg
+    in_place = function != "visualize_table"
+    if choice == 0:
+        field = rng.choice(["table_radius", "circle_radius"])
+        args[field] = rng.choice(radius_bad)
+        kind, names = radius_kind(args[field]), [field, f"{field}:"]
+    elif choice == 1:
+        args["coordinates"], kind, names = course_array(rng, "coordinates", in_place)
+        if names == ["coordinates", "rows"]:
+            names = ["coordinates", "velocities", "n ="]
+    elif choice == 2 and function != "visualize_table":
+        args["velocities"], kind, names = course_array(rng, "velocities", True)
+        if names == ["velocities", "rows"]:
+            names = ["coordinates", "velocities"]
+    elif function == "movie" and rng.random() < 0.5:
+        args["collisions"] = rng.choice([-1, -2**31] + BEYOND_INT + NOT_INTS)
+        in_range = isinstance(args["collisions"], int) and -2**31 <= args["collisions"] < 2**31
+        kind, names = ("value", ["collisions"]) if in_range else ("type", ["collisions:"])
+    else:  # circles overlapping, outside the table, or all at rest (a picture may show anything)
+        problem = rng.randrange(3) if function != "visualize_table" else 3
+        if problem == 0:
+            args["coordinates"] = np.array([[0.0, 0.0], [1.5, 0.0], [-3.0, 4.0]])
+        elif problem == 1:
+            args["coordinates"] = np.array([[0.0, 0.0], [3.0, 0.0], [9.5, 0.0]])
+        elif function != "visualize_table":
+            args["velocities"] = np.zeros((3, 2))
+        else:
+            args["svg_file"] = rng.choice([None, 5])
+            return function, args, "type", ["svg_file:"], []
+        kind, names = "value", ["coordinates", "velocities"]
+    return function, args, kind, names, (["coordinates", "velocities"] if in_place else [])
+
+
+@pytest.mark.skipif(billiard.course_implementation != "solutions",
+                    reason="the course functions here are the student's (the stubs raise NotImplementedError)")
+def test_bad_calls_to_the_course_functions_raise_naming_the_argument_and_change_nothing(tmp_path):
+    rng = random.Random(SEED + 1)
+    counts = Counter()
+    calls = 3000
+    for _ in range(calls):
+        function, args, kind, names, in_place = bad_course_call(rng, tmp_path)
+        where = f"{function}(**{args!r})"
+        saved = {key: args[key].copy() for key in in_place if isinstance(args.get(key), np.ndarray)}
+        error = TypeError if kind == "type" else ValueError
+        try:
+            getattr(billiard, function)(**args)
+        except (ValueError, TypeError) as refusal:
+            raised = refusal
+        else:
+            pytest.fail(f"{where}: accepted, expected {error.__name__}")
+        message = str(raised)
+        assert type(raised) is error, f"{where}: {type(raised).__name__} instead of {error.__name__}: {message}"
+        assert any(name in message for name in names), f"{where}: the message names none of {names}: {message}"
+        for key, copy in saved.items():
+            assert bits(args[key]) == bits(copy), f"{where}: the refused call changed {key}"
+        assert not (tmp_path / "fuzz.svg").exists(), f"{where}: a refused call wrote the file"
+        counts[type(raised).__name__] += 1
+    print(f"python course fuzz (seed {SEED + 1}): {calls} calls, {counts['ValueError']} ValueError, "
+          f"{counts['TypeError']} TypeError; every refusal left the arrays unchanged")
+    assert counts["ValueError"] + counts["TypeError"] == calls
+    assert counts["ValueError"] > calls // 2 and counts["TypeError"] > calls // 20
+
+
+@pytest.mark.skipif(billiard.course_implementation != "solutions",
+                    reason="the course functions here are the student's (the stubs raise NotImplementedError)")
+def test_extreme_but_valid_course_calls_return_finite_results(tmp_path):
+    # The documented limits (1e50, 1e-50) and empty tables: accepted, quick and finite.
+    for table_radius, circle_radius, n in [(1e50, 1e49, 5), (1e-40, 1e-41, 5), (10.0, 1.0, 0), (1e50, 1e44, 3)]:
+        coordinates = billiard.init_billiard(table_radius, circle_radius, n, 1)
+        assert coordinates.shape == (n, 2) and np.isfinite(coordinates).all()
+        assert (np.hypot(coordinates[:, 0], coordinates[:, 1]) <= table_radius - circle_radius * (1 - 1e-9)).all()
+    for scale in (1e49, 1e-50, 1.0):
+        coordinates, velocities = CIRCLES.copy(), SPEEDS * scale
+        collision = billiard.propagate(R, A, coordinates, velocities)
+        assert math.isfinite(collision.time) and np.isfinite(coordinates).all() and np.isfinite(velocities).all()
+        mean_square = billiard.kinetic_energy(velocities)
+        assert math.isfinite(mean_square) and mean_square > 0
+        billiard.correct_energy_drift(velocities, 4 * mean_square)  # doubles every speed
+        assert billiard.kinetic_energy(velocities) == pytest.approx(4 * mean_square, rel=1e-12)
+        billiard.propagate(R, A, coordinates, velocities)
+        assert np.isfinite(coordinates).all() and np.isfinite(velocities).all()
+    billiard.movie(R, A, CIRCLES.copy(), SPEEDS * 1e49, 20, tmp_path / "fast.svg")
+    assert (tmp_path / "fast.svg").stat().st_size > 0
