@@ -492,8 +492,7 @@ Call plausible_call(Rng& rng) {
   };
   switch (std::uniform_int_distribution<int>(0, 9)(rng)) {
     case 9: {
-      // (Not 0, the TC model off: see InelasticDiscsStayOnTheTable.)
-      const std::optional<double> value = coin(rng) ? std::nullopt : std::optional<double>(pick(rng, std::vector<double>{1e-3, 1.0, 1e308}));
+      const std::optional<double> value = coin(rng) ? std::nullopt : std::optional<double>(pick(rng, std::vector<double>{0.0, 1e-3, 1.0, 1e308}));
       const std::string text = value ? show(*value) : "automatic";
       if (coin(rng)) return any("set_contact_duration(" + text + ")", false, [value](Simulation& s) { s.set_contact_duration(value); });
       return any("set_elastic_impact_speed(" + text + ")", false, [value](Simulation& s) { s.set_elastic_impact_speed(value); });
@@ -528,8 +527,7 @@ Call plausible_call(Rng& rng) {
                  [=](Simulation& s) { s.add_random_discs(n, radius, 1.0, kT, seed); });
     }
     case 7: {
-      // (Not a normal restitution of 0 or a denormal: see InelasticDiscsStayOnTheTable.)
-      const double n = pick(rng, std::vector<double>{1e-3, 1.0, 0.5, 0.9}), t = pick(rng, std::vector<double>{-1.0, 1.0, 0.0, -0.0, -kDenormal});
+      const double n = pick(rng, std::vector<double>{0.0, kDenormal, 1e-3, 1.0, 0.5, 0.9}), t = pick(rng, std::vector<double>{-1.0, 1.0, 0.0, -0.0, -kDenormal});
       return any("set_restitution(" + show(n) + ", " + show(t) + ")", false, [=](Simulation& s) { s.set_restitution(n, t); });
     }
     default: {
@@ -784,14 +782,11 @@ TEST(FuzzApi, ACopyRunsOnLikeTheOriginal) {
   EXPECT_EQ(copied.validate(), "");
 }
 
-// Found by the fuzzing, not fixed yet (the engine), so left out of the fuzzing above:
-//  - with a normal restitution of 0 a disc hitting the table's rim keeps only its tangential
-//    velocity, r.v = 0 exactly, which disc_in_circle_time takes for a grazing touch (no
-//    collision) although the straight line leaves the circle at once: the disc flies out;
-//  - with the TC model off (contact duration 0), inelastic discs also leave the table within a
-//    few collisions, normal restitution 0.5 included.
-// Enable once fixed.
-TEST(FuzzApi, DISABLED_InelasticDiscsStayOnTheTable) {
+// Inelastic discs in the table, down to a normal restitution of 0, with and without the TC model:
+// after a hit on the rim with restitution 0 a disc moves along it (r.v = 0 exactly), which is no
+// graze inside a circle (the straight line leaves it at once), so the disc must bounce again, not
+// fly out.
+TEST(FuzzApi, InelasticDiscsStayOnTheTable) {
   struct Case {
     double normal, tangential;
     std::optional<double> contact_duration;  // (nullopt: automatic)
@@ -812,11 +807,10 @@ TEST(FuzzApi, DISABLED_InelasticDiscsStayOnTheTable) {
   }
 }
 
-// Found by the fuzzing (seed 16), not fixed yet (the event queue): a disc whose next event lies
-// more than about 1e20 time units ahead (speed 1e-20 in a table of radius 5), and an advance
-// stopped by its duration: validate() then reports the queue out of order, although the next
-// collision still comes at the right time. Enable once fixed.
-TEST(FuzzApi, DISABLED_SlowDiscsKeepTheQueueValid) {
+// A disc whose next event lies about 1e20 time units ahead (speed 1e-20 in a table of radius 5),
+// and an advance stopped by its duration: the queue's buckets must stay wider than the rounding
+// of such times, or the heap's horizon cannot pass them and the queue is out of order.
+TEST(FuzzApi, SlowDiscsKeepTheQueueValid) {
   for (const double speed : {1e-20, 1e-50}) {
     Simulation sim;
     sim.set_circular_table(5);

@@ -118,6 +118,9 @@ TEST(Api, NoDiscsAndOneDisc) {
   const auto r = empty.advance(100, 3.0);
   EXPECT_EQ(r.collisions, 0);
   EXPECT_EQ(empty.current_state().positions.rows(), 0);
+  // No event ever comes, so the duration passes and the clock stops exactly at it.
+  EXPECT_EQ(empty.time(), 3.0);
+  EXPECT_EQ(r.elapsed, 3.0);
   billiard::Simulation one;
   one.set_circular_table(5);
   one.add_disc(make_disc(Vec2(0, 0), Vec2(0, 1)));

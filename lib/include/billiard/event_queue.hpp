@@ -350,6 +350,9 @@ class CalendarQueue {
     }
     const double spread = finite > 0 ? sum / finite : 0.0;  // mean key distance ahead
     width_ = spread > 0 ? 2 * spread * kPerBucket / std::max(finite, 1) : 1.0;
+    // A bucket must be wider than the rounding of its times (keys near 1e20 with a width of 1
+    // would all share one horizon, 1e20 + 1 == 1e20): at least 2^-40 of the earliest time.
+    if (std::isfinite(first)) width_ = std::max(width_, std::abs(first) * 0x1p-40);
     // Buckets over about 4 mean distances ahead (a power of two for a cheap modulo).
     buckets_ = 1;
     while (buckets_ < 64 || static_cast<double>(buckets_) * width_ < 4 * spread) {

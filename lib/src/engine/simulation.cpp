@@ -36,12 +36,15 @@ bool in_scale(double x) { return x >= kSmallest && x <= kLargest; }
 // discs and cross walls by rounding alone (far smaller, it escapes through the walls).
 constexpr double kRelativeRadius = 1e-6;
 
-// The largest coordinate of the container (table, periodic box, boxes and polygons): where discs
-// can go. (Walls outside it, such as a lone segment, are never reached.)
+// The largest coordinate of the container and the walls (table, periodic box, the end points of
+// segments, boxes and polygons). Every wall counts: the distance to a segment that reaches into
+// the table from 1e50 away is computed from its far end point, and loses all its digits.
 double container_extent(const Simulation::Engine& e) {
   double extent = e.has_table ? e.table_radius : 0.0;
   if (e.periodic) extent = std::max(extent, e.period.maxCoeff());
-  for (const Points& outline : e.outlines) extent = std::max(extent, outline.cwiseAbs().maxCoeff());
+  for (const Wall& wall : e.walls) {
+    if (wall.kind != WallKind::Circle) extent = std::max({extent, wall.a.cwiseAbs().maxCoeff(), wall.b.cwiseAbs().maxCoeff()});
+  }
   return extent;
 }
 
@@ -281,6 +284,7 @@ int Simulation::add_segment(const Vec2& a, const Vec2& b) {
   // (So close that the squared length underflows, the segment has no direction.)
   if (!((a - b).squaredNorm() > 0)) refuse("add_segment: a and b must differ, got " + vec(a) + " and " + vec(b));
   if (e.periodic) refuse("add_segment: walls inside a periodic box are not supported");
+  check_extent(e, std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()), "add_segment");
   const Wall segment{WallKind::Segment, a, b, 0.0};
   for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
     const double distance = (closest_point(segment, e.hot[i].position) - e.hot[i].position).norm();

@@ -171,7 +171,9 @@ double disc_in_circle_time(const Vec2& r, const Vec2& v, const Vec2& g, double r
     // B > 0 to avoid cancellation (the course's task 4).
     const double A = v.squaredNorm();
     if (A == 0) return kNever;
-    if (C >= 0 && B >= 0) return B > 0 ? 0.0 : kNever;  // on or a hair outside: bounce now
+    // On or a hair outside and not moving in: bounce now. Moving along the wall (B = 0) is no
+    // graze here: inside a circle a tangent leads straight out.
+    if (C >= 0 && B >= 0) return 0.0;
     const double root = std::sqrt(std::max(B * B - A * C, 0.0));
     const double t = B > 0 ? -C / (B + root) : (-B + root) / A;
     return std::max(t, 0.0);
