@@ -20,18 +20,23 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parents[1]
-TASKS = ["init_billiard", "init_velocities", "visualize_table", "propagate", "movie", "kinetic_energy"]
+sys.path.insert(0, str(HERE))
+import package  # noqa: E402  (the platforms' time limits)
+
+TASKS = package.TASKS
 BUILD = None  # set from the command line
 
 
-def grade(submission, *options):
-    """Runs the grader on a submission folder; returns (scores, maxima, results.json, junit root, stdout)."""
+def grade(submission, *options, temporary=None):
+    """Runs the grader on a submission folder (with its temporary files in `temporary`, if given);
+    returns (scores, maxima, results.json, junit root, stdout)."""
     results = Path(tempfile.mkdtemp(prefix="grader-results-"))
     try:
         done = subprocess.run(
             ["/usr/bin/python3", str(HERE / "grade.py"), "--submission", str(submission), "--build", str(BUILD),
              "--results", str(results), *options],
-            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=3000)
+            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=3000,
+            env=dict(os.environ, TMPDIR=str(temporary)) if temporary else None)
         if done.returncode != 0:
             raise AssertionError(f"grade.py failed with status {done.returncode}:\n{done.stdout[-5000:]}")
         report = json.loads((results / "results.json").read_text())
@@ -45,6 +50,34 @@ def grade(submission, *options):
         scores[task] += test["score"]
         maxima[task] += test["max_score"]
     return scores, maxima, report, junit, done.stdout
+
+
+def own_build_seconds(output):
+    """The time of the grader's own build (not the submission's), as grade.py prints it."""
+    found = re.search(r"of which (\d+) s for the grader's own build", output)
+    if not found:
+        raise AssertionError(f"grade.py did not print the time of its own build:\n{output[-3000:]}")
+    return int(found.group(1))
+
+
+def temporary_folder():
+    """A folder for one grading's temporary files, which the test user may enter: the suites run
+    from there, so the processes of that grading are told from others' by their executable."""
+    folder = Path(tempfile.mkdtemp(prefix="grading-"))
+    os.chmod(folder, 0o755)
+    return folder
+
+
+def processes_running_from(folder):
+    """Pids of the processes whose executable lies in `folder` (even if deleted since)."""
+    pids = []
+    for entry in Path("/proc").iterdir():
+        try:
+            if entry.name.isdigit() and os.readlink(entry / "exe").startswith(f"{folder}/"):
+                pids.append(int(entry.name))
+        except OSError:
+            pass
+    return pids
 
 
 def mutant_source(mutant):
@@ -123,13 +156,16 @@ class GradesKnownSubmissions(unittest.TestCase):
     def test_hostile_submission_gains_nothing_and_stops_nothing(self):
         hostile = {path.stem: path for path in (HERE / "hostile").glob("*.cpp")}
         submission = submission_from_solutions(**hostile)
+        temporary = temporary_folder()
         try:
             started = time.monotonic()
             timeout = 2
-            scores, maxima, report, _, _ = grade(submission, "--timeout", str(timeout))
+            scores, maxima, report, _, _ = grade(submission, "--timeout", str(timeout), temporary=temporary)
             elapsed = time.monotonic() - started
+            leftovers = processes_running_from(temporary)
         finally:
             shutil.rmtree(submission)
+            shutil.rmtree(temporary)
         self.check_gradescope_format(report)
         for task in ["init_billiard", "init_velocities", "propagate", "kinetic_energy"]:
             self.assertEqual(scores[task], 0, f"{task} misbehaves and must score 0")
@@ -146,6 +182,50 @@ class GradesKnownSubmissions(unittest.TestCase):
         early = next(text for name, text in outputs.items() if name.startswith("init_billiard:"))
         self.assertIn("exit()", early)
         self.assertTrue(all(len(text) < 10_000 for text in outputs.values()), "feedback must be capped")
+        self.assertEqual(leftovers, [], "the processes that left their tests are stopped")
+
+    def test_endless_loop_costs_only_its_task_and_its_budget(self):
+        # propagate loops forever (and leaves a detached process looping too), graded with the
+        # platforms' limits: propagate's tests stop when its budget is used up, its detached
+        # processes are stopped, and the other tasks keep full points.
+        submission = submission_from_solutions(propagate=HERE / "hostile" / "propagate.cpp")
+        temporary = temporary_folder()
+        budget = package.PLATFORM_TASK_BUDGET
+        try:
+            started = time.monotonic()
+            scores, maxima, report, junit, output = grade(submission, *package.PLATFORM_GRADE_OPTIONS,
+                                                          temporary=temporary)
+            elapsed = time.monotonic() - started
+            leftovers = processes_running_from(temporary)
+        finally:
+            shutil.rmtree(submission)
+            shutil.rmtree(temporary)
+        self.check_gradescope_format(report)
+        self.assertEqual(scores["propagate"], 0)
+        for task in TASKS:
+            if task != "propagate":
+                self.assertEqual(scores[task], maxima[task], f"{task} is correct and must keep full points")
+        # The stated bound: the grader's own build and six budgets; this submission, with one
+        # task looping, needs one budget and the few seconds of the other tasks.
+        tasks_time = elapsed - own_build_seconds(output)
+        print(f"graded in {elapsed:.0f} s, {tasks_time:.0f} s after the grader's own build (bound: "
+              f"{len(TASKS) * budget} s)", flush=True)
+        self.assertLess(tasks_time, len(TASKS) * budget)
+        self.assertLess(tasks_time, budget + 120)
+        suite = next(suite for suite in junit.iter("testsuite") if suite.get("name") == "propagate")
+        test_time = sum(float(case.get("time")) for case in suite.iter("testcase"))
+        self.assertLessEqual(test_time, budget + 2, "propagate's tests together stay within its budget")
+        outputs = [test["output"] for test in report["tests"] if test["name"].startswith("propagate:")]
+        stopped = [text for text in outputs if "did not finish within" in text]
+        not_run = [text for text in outputs if "not run" in text]
+        self.assertTrue(stopped and not_run, outputs)
+        self.assertEqual(len(stopped) + len(not_run), len(outputs), "every test of propagate says why it failed")
+        self.assertTrue(all("endless loop in propagate" in text for text in stopped))
+        self.assertTrue(all("endless loop in propagate" in text or "hidden" in text for text in not_run))
+        self.assertTrue(any(f"within {package.PLATFORM_SHORT_TIMEOUT} seconds" in text for text in stopped),
+                        "once a test did not finish, the others get the short limit")
+        self.assertIn("not run:", output)
+        self.assertEqual(leftovers, [], "the processes that left their tests are stopped")
 
     def test_compile_error_costs_only_its_own_task(self):
         broken = Path(tempfile.mkdtemp(prefix="broken-")) / "propagate.cpp"

@@ -13,11 +13,13 @@ each task's maximum points), and the tests work in its package-tests/ subfolder.
 import io
 import json
 import os
+import re
 import shutil
 import stat
 import subprocess
 import sys
 import tarfile
+import time
 import unittest
 import zipfile
 from pathlib import Path
@@ -223,24 +225,91 @@ def unzip(archive_path, folder):
                 os.chmod(target, stat.S_IMODE(mode))
 
 
+def endless_loops(task):
+    """The stub of a task (tasks/<task>.cpp) with each `throw` replaced by an endless loop."""
+    stub = (REPO / "tasks" / f"{task}.cpp").read_text()
+    looping, count = re.subn(r"throw NotImplemented\([^;]*\);", "for (volatile unsigned spin = 0;; spin = spin + 1) {}",
+                             stub)
+    assert count >= 1, f"tasks/{task}.cpp has no `throw NotImplemented(...)` to replace"
+    return looping
+
+
 class Gradescope(unittest.TestCase):
-    def run_autograder(self, root, submission_files):
+    def run_autograder(self, root, submission_files, one_core=False):
         """Puts the files {relative path: text} into a fresh submission folder, runs run_autograder
-        as Gradescope does; returns (results.json, output)."""
+        as Gradescope does (on one core: limited to CPU 0); returns (results.json, output)."""
         submission = fresh(root / "submission")
         for path, text in submission_files.items():
             (submission / path).parent.mkdir(parents=True, exist_ok=True)
             (submission / path).write_text(text)
         fresh(root / "results")
-        status, output = run([str(root / "run_autograder")], cwd=root,
+        status, output = run((["taskset", "-c", "0"] if one_core else []) + [str(root / "run_autograder")], cwd=root,
                              env=environment(AUTOGRADER_ROOT=str(root)), timeout=1800)
         self.assertEqual(status, 0, output)
         return json.loads((root / "results" / "results.json").read_text()), output
 
-    def test_autograder_zip_in_a_fake_autograder_folder(self):
+    def autograder(self):
+        """The fake /autograder folder, set up by test_autograder_zip_in_a_fake_autograder_folder
+        (a CTest fixture) or here if it is missing."""
+        root = WORK / "gradescope" / "autograder"
+        if not (root / "run_autograder").is_file():
+            self.set_up_autograder()
+        return root
+
+    def set_up_autograder(self):
         base = fresh(WORK / "gradescope")
         zip_path = base / "autograder.zip"
-        package_command("gradescope", str(zip_path))
+        listing = package_command("gradescope", str(zip_path))
+        # The stated bound, the driver's cut-off and Gradescope's default limit of 10 minutes, in order.
+        bound = package.TASKS_BOUND + package.GRADESCOPE_BUILD_ALLOWANCE
+        self.assertLess(bound, package.GRADESCOPE_CUTOFF)
+        self.assertLess(package.GRADESCOPE_CUTOFF, 600)
+        self.assertIn(f"at most {bound} s on one core", listing)
+        with zipfile.ZipFile(zip_path) as archive:
+            self.assertIn(f"at most {package.TASKS_BOUND} s", archive.read("setup.sh").decode())
+        # Gradescope: unpack to /autograder/source, run setup.sh there once (as root), copy
+        # run_autograder to /autograder.
+        root = base / "autograder"
+        unzip(zip_path, root / "source")
+        status, output = run([str(root / "source" / "setup.sh")], cwd=root / "source", timeout=1800)
+        self.assertEqual(status, 0, output)
+        shutil.copy2(root / "source" / "run_autograder", root / "run_autograder")
+        return zip_path, root
+
+    def test_endless_loops_fit_the_time_limit_on_one_core(self):
+        # Every task loops forever (the stubs with each `throw` replaced by an endless loop),
+        # graded on one core: results.json comes well within Gradescope's default limit of 10
+        # minutes. Then only propagate loops: the other tasks keep full points.
+        root = self.autograder()
+        limit = 300
+        started = time.monotonic()
+        report, output = self.run_autograder(root, {f"tasks/{task}.cpp": endless_loops(task) for task in TASKS},
+                                             one_core=True)
+        elapsed = time.monotonic() - started
+        print(f"every task looping, on one core: {elapsed:.0f} s (bound "
+              f"{package.TASKS_BOUND + package.GRADESCOPE_BUILD_ALLOWANCE} s)", flush=True)
+        self.assertLess(elapsed, limit, output[-3000:])
+        self.assertEqual(scores_of(report), {task: 0 for task in TASKS}, output[-3000:])
+        for task in TASKS:
+            outputs = [test["output"] for test in report["tests"] if test["name"].startswith(task + ":")]
+            self.assertTrue(outputs and all("did not finish" in text or "not run" in text for text in outputs),
+                            f"{task}: {outputs}")
+
+        files = {f"tasks/{task}.cpp": (REPO / "solutions" / f"{task}.cpp").read_text() for task in TASKS}
+        files["tasks/propagate.cpp"] = endless_loops("propagate")
+        started = time.monotonic()
+        report, output = self.run_autograder(root, files, one_core=True)
+        elapsed = time.monotonic() - started
+        print(f"propagate looping, on one core: {elapsed:.0f} s", flush=True)
+        self.assertLess(elapsed, limit, output[-3000:])
+        scores = scores_of(report)
+        self.assertEqual(scores["propagate"], 0, output[-3000:])
+        for task in TASKS:
+            if task != "propagate":
+                self.assertEqual(scores[task], maxima()[task], f"{task}\n{output[-3000:]}")
+
+    def test_autograder_zip_in_a_fake_autograder_folder(self):
+        zip_path, root = self.set_up_autograder()
         with zipfile.ZipFile(zip_path) as archive:
             names = archive.namelist()
             modes = {info.filename: stat.S_IMODE(info.external_attr >> 16) for info in archive.infolist()}
@@ -250,14 +319,6 @@ class Gradescope(unittest.TestCase):
         self.assertIn("solutions/propagate.cpp", names)
         self.assertIn("tests/grader/grade.py", names)
         self.assertFalse([name for name in names if name.startswith(("build/", "tests/mutants/", ".git/"))])
-
-        # Gradescope: unpack to /autograder/source, run setup.sh there once (as root), copy
-        # run_autograder to /autograder.
-        root = base / "autograder"
-        unzip(zip_path, root / "source")
-        status, output = run([str(root / "source" / "setup.sh")], cwd=root / "source", timeout=1800)
-        self.assertEqual(status, 0, output)
-        shutil.copy2(root / "source" / "run_autograder", root / "run_autograder")
 
         # The files in a folder, with a broken propagate, a stray copy of a task file nearer the
         # top, and other files that must be ignored.
@@ -283,13 +344,16 @@ class Gradescope(unittest.TestCase):
         self.assertIn("billiard-main/tasks/init_billiard.cpp", report["output"])
         self.assertNotIn(".git/", report["output"])
 
-        # The grader crashes: a results.json with score 0 and the error, all the same.
+        # The grader crashes: a results.json with score 0 and the error, all the same. (The driver
+        # imports grade.py too, so the script stays importable and fails when run.)
         grade_py = root / "source" / "tests" / "grader" / "grade.py"
-        grade_py.rename(grade_py.with_suffix(".hidden"))
+        original = grade_py.read_text()
+        self.assertIn("sys.exit(main())", original)
+        grade_py.write_text(original.replace("sys.exit(main())", "raise RuntimeError('a broken grader')"))
         try:
             report, output = self.run_autograder(root, files)
         finally:
-            grade_py.with_suffix(".hidden").rename(grade_py)
+            grade_py.write_text(original)
         self.assertEqual(report["score"], 0)
         self.assertIn("course staff", report["output"])
 
@@ -327,6 +391,13 @@ class Autolab(unittest.TestCase):
         listing = package_command("autolab", str(package_folder), "--tests", str(TESTS))
         for task in TASKS:
             self.assertIn(f"{task}  {maxima()[task]}", listing)
+        # The stated bound fits the timeout it asks for, with the driver's cut-off in between.
+        bound = package.TASKS_BOUND + package.AUTOLAB_BUILD_ALLOWANCE
+        self.assertLess(bound, package.AUTOLAB_CUTOFF)
+        self.assertLess(package.AUTOLAB_CUTOFF, package.AUTOLAB_TIMEOUT)
+        self.assertIn(f"autograding timeout {package.AUTOLAB_TIMEOUT} s", listing)
+        self.assertIn(f"at most {bound} s on one core", listing)
+        self.assertIn(f"at most {bound} s on one core", (package_folder / "autograde-Makefile").read_text())
         tar_path = package_folder / "autograde.tar"
         with tarfile.open(tar_path) as archive:
             names = archive.getnames()
