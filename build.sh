@@ -76,6 +76,15 @@ register_python_module() {
   echo "build.sh: /usr/bin/python3 imports billiard from build/$BILLIARD_PRESET/python (via $site/billiard.pth)"
 }
 
+# The fuzz tests' counts (cases tried, how each ended), from the log of the test run just done.
+print_fuzz_counts() {
+  local log=build/$BILLIARD_PRESET/Testing/Temporary/LastTest.log counts
+  [ -f "$log" ] || return 0
+  counts=$(grep -ohE '(cli fuzz: [0-9]|api fuzz: [0-9]|python [A-Za-z]+ fuzz \(|find_task_files: [0-9]|archive bombs: |stage_submission: [0-9]).*' "$log" || true)
+  [ -n "$counts" ] && printf '\nFuzz tests run:\n%s\n' "$counts"
+  return 0
+}
+
 command=${1:-}
 [ $# -gt 0 ] && shift
 case "$command" in
@@ -91,7 +100,10 @@ case "$command" in
     configure_options=(-DBILLIARD_PYTHON=ON)  # the module and notebooks are tested: never skip them
     build
     register_python_module
-    exec ctest --preset "$BILLIARD_PRESET" "$@"
+    status=0
+    ctest --preset "$BILLIARD_PRESET" "$@" || status=$?
+    print_fuzz_counts
+    exit "$status"
     ;;
   python)
     install_missing_packages "${python_packages[@]}"

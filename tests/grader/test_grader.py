@@ -68,6 +68,20 @@ def temporary_folder():
     return folder
 
 
+def grade_alone(submission, *options):
+    """Grades a submission folder (removed afterwards) with temporary files of its own; returns
+    grade()'s results, the seconds it took, and the processes still running from its temporary
+    folder (which a grading must not leave behind)."""
+    temporary = temporary_folder()
+    try:
+        started = time.monotonic()
+        results = grade(submission, *options, temporary=temporary)
+        return results, time.monotonic() - started, processes_running_from(temporary)
+    finally:
+        shutil.rmtree(submission)
+        shutil.rmtree(temporary)
+
+
 def processes_running_from(folder):
     """Pids of the processes whose executable lies in `folder` (even if deleted since)."""
     pids = []
@@ -155,17 +169,9 @@ class GradesKnownSubmissions(unittest.TestCase):
 
     def test_hostile_submission_gains_nothing_and_stops_nothing(self):
         hostile = {path.stem: path for path in (HERE / "hostile").glob("*.cpp")}
-        submission = submission_from_solutions(**hostile)
-        temporary = temporary_folder()
-        try:
-            started = time.monotonic()
-            timeout = 2
-            scores, maxima, report, _, _ = grade(submission, "--timeout", str(timeout), temporary=temporary)
-            elapsed = time.monotonic() - started
-            leftovers = processes_running_from(temporary)
-        finally:
-            shutil.rmtree(submission)
-            shutil.rmtree(temporary)
+        timeout = 2
+        (scores, maxima, report, _, _), elapsed, leftovers = grade_alone(
+            submission_from_solutions(**hostile), "--timeout", str(timeout))
         self.check_gradescope_format(report)
         for task in ["init_billiard", "init_velocities", "propagate", "kinetic_energy"]:
             self.assertEqual(scores[task], 0, f"{task} misbehaves and must score 0")
@@ -188,18 +194,9 @@ class GradesKnownSubmissions(unittest.TestCase):
         # propagate loops forever (and leaves a detached process looping too), graded with the
         # platforms' limits: propagate's tests stop when its budget is used up, its detached
         # processes are stopped, and the other tasks keep full points.
-        submission = submission_from_solutions(propagate=HERE / "hostile" / "propagate.cpp")
-        temporary = temporary_folder()
         budget = package.PLATFORM_TASK_BUDGET
-        try:
-            started = time.monotonic()
-            scores, maxima, report, junit, output = grade(submission, *package.PLATFORM_GRADE_OPTIONS,
-                                                          temporary=temporary)
-            elapsed = time.monotonic() - started
-            leftovers = processes_running_from(temporary)
-        finally:
-            shutil.rmtree(submission)
-            shutil.rmtree(temporary)
+        (scores, maxima, report, junit, output), elapsed, leftovers = grade_alone(
+            submission_from_solutions(propagate=HERE / "hostile" / "propagate.cpp"), *package.PLATFORM_GRADE_OPTIONS)
         self.check_gradescope_format(report)
         self.assertEqual(scores["propagate"], 0)
         for task in TASKS:

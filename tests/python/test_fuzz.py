@@ -460,7 +460,7 @@ needs_simulation = pytest.mark.skipif(not hasattr(billiard, "Simulation"),
 
 
 @needs_simulation
-def test_bad_calls_to_the_simulation_raise_naming_the_argument_and_change_nothing():
+def test_bad_calls_to_the_simulation_raise_naming_the_argument_and_change_nothing(capsys):
     rng = random.Random(SEED)
     counts = Counter()
     calls = 4000
@@ -469,9 +469,10 @@ def test_bad_calls_to_the_simulation_raise_naming_the_argument_and_change_nothin
         c = plausible_simulation_call(rng) if k % 5 == 4 else bad_simulation_call(rng, start)
         check(start, c, counts)
     refused = counts["ValueError"] + counts["TypeError"] + counts["RuntimeError"]
-    print(f"python Simulation fuzz (seed {SEED}): {calls} calls, {counts['ValueError']} ValueError, "
-          f"{counts['TypeError']} TypeError, {counts['RuntimeError']} RuntimeError, {counts['accepted']} accepted; "
-          "every refusal left the simulation unchanged")
+    with capsys.disabled():  # (the counts belong in the test command's log, pass or fail)
+        print(f"python Simulation fuzz (seed {SEED}): {calls} calls, {counts['ValueError']} ValueError, "
+              f"{counts['TypeError']} TypeError, {counts['RuntimeError']} RuntimeError, {counts['accepted']} accepted; "
+              "every refusal left the simulation unchanged")
     assert refused + counts["accepted"] == calls
     assert counts["ValueError"] > calls // 3 and counts["TypeError"] > calls // 20 and counts["RuntimeError"] > calls // 20
     assert counts["accepted"] > calls // 20
@@ -602,7 +603,7 @@ def bad_course_call(rng, tmp_path):
 
 @pytest.mark.skipif(billiard.course_implementation != "solutions",
                     reason="the course functions here are the student's (the stubs raise NotImplementedError)")
-def test_bad_calls_to_the_course_functions_raise_naming_the_argument_and_change_nothing(tmp_path):
+def test_bad_calls_to_the_course_functions_raise_naming_the_argument_and_change_nothing(tmp_path, capsys):
     rng = random.Random(SEED + 1)
     counts = Counter()
     calls = 3000
@@ -624,8 +625,9 @@ def test_bad_calls_to_the_course_functions_raise_naming_the_argument_and_change_
             assert bits(args[key]) == bits(copy), f"{where}: the refused call changed {key}"
         assert not (tmp_path / "fuzz.svg").exists(), f"{where}: a refused call wrote the file"
         counts[type(raised).__name__] += 1
-    print(f"python course fuzz (seed {SEED + 1}): {calls} calls, {counts['ValueError']} ValueError, "
-          f"{counts['TypeError']} TypeError; every refusal left the arrays unchanged")
+    with capsys.disabled():
+        print(f"python course fuzz (seed {SEED + 1}): {calls} calls, {counts['ValueError']} ValueError, "
+              f"{counts['TypeError']} TypeError; every refusal left the arrays unchanged")
     assert counts["ValueError"] + counts["TypeError"] == calls
     assert counts["ValueError"] > calls // 2 and counts["TypeError"] > calls // 20
 
