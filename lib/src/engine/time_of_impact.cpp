@@ -159,7 +159,15 @@ double disc_point_time(const Vec2& r, const Vec2& v, const Vec2& g, const Vec2& 
   const QuadraticRoots bound = solve_quadratic(0.5 * g.norm(), -v.norm(), -(d.norm() + radius));
   const double t_max = bound.hi;
   const double poly[5] = {f0, df0, v.squaredNorm() + d.dot(g), v.dot(g), 0.25 * g.squaredNorm()};
-  return first_polynomial_crossing(poly, 4, t_max, false);
+  const double t = first_polynomial_crossing(poly, 4, t_max, false);
+  if (t < kNever || f0 > 0) return t;
+  // Found a hair inside and moving out: if too slowly to get clear before gravity brings it back
+  // (f never rises above zero, so there is no downward crossing to find), it is in contact, as in
+  // disc_in_circle_time: collide now. f is highest at the first root of f' (or at t_max).
+  const double slope[4] = {df0, 2 * poly[2], 3 * poly[3], 4 * poly[4]};
+  double turning[3];
+  const double highest = roots_in(slope, 3, 0.0, t_max, turning) > 0 ? turning[0] : t_max;
+  return horner(poly, 4, highest) <= 0 ? 0.0 : kNever;
 }
 
 double disc_in_circle_time(const Vec2& r, const Vec2& v, const Vec2& g, double reach) {
