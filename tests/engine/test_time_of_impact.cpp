@@ -107,6 +107,25 @@ TEST(Point, DiscHitsTheEndOfASegment) {
   EXPECT_NEAR(billiard::disc_point_time(Vec2(0, 3), Vec2(0, 0), Vec2(0, -1), Vec2(0, 0), 1.0), 2.0, 1e-12);
 }
 
+TEST(Point, AHairInsideAndMovingOutTooSlowlyToGetClearCollidesNow) {
+  // Overlapping the point by 1e-9 and rising at 1e-6 under g = 1: it rises 5e-13 and falls back
+  // in without ever getting clear, so it is in contact now (it would pass into the point).
+  EXPECT_EQ(billiard::disc_point_time(Vec2(0, 1 - 1e-9), Vec2(0, 1e-6), Vec2(0, -1), Vec2(0, 0), 1.0), 0.0);
+  // Rising at 1e-3 it gets clear (5e-7 above) and lands back on the point at t = 2 v / g.
+  EXPECT_NEAR(billiard::disc_point_time(Vec2(0, 1 - 1e-12), Vec2(0, 1e-3), Vec2(0, -1), Vec2(0, 0), 1.0), 2e-3, 1e-8);
+}
+
+TEST(Point, SlidingPastThePointAlongTheContactIsNoCollision) {
+  // Touching the point on its left and moving straight down (along the contact), gravity down:
+  // the tangent leads away from the point. A velocity off the tangent by 1e-17 (rounding) must
+  // not count as approaching, or the disc would collide at once, again and again.
+  for (const double off : {-1e-17, 0.0, 1e-17}) {
+    EXPECT_EQ(billiard::disc_point_time(Vec2(-1, 0), Vec2(off, -1), Vec2(0, -1), Vec2(0, 0), 1.0), kNever) << off;
+  }
+  // Off by 1e-6 towards the point it is a real (glancing) collision: now.
+  EXPECT_EQ(billiard::disc_point_time(Vec2(-1, 0), Vec2(1e-6, -1), Vec2(0, -1), Vec2(0, 0), 1.0), 0.0);
+}
+
 TEST(CellExit, LinearAndUnderGravity) {
   const Vec2 lo(0, 0), hi(2, 2);
   billiard::CellExit e = billiard::cell_exit_time(Vec2(0.5, 1), Vec2(1, 0.25), kNoGravity, lo, hi);

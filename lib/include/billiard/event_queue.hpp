@@ -50,7 +50,7 @@
 
 namespace billiard {
 
-enum class EventKind : int { DiscDisc, DiscWall, CellCrossing, Sleep, Wake };
+enum class EventKind : int { DiscDisc, DiscWall, CellCrossing };
 
 // Keys held in a vector by the caller (tests, small tools).
 struct VectorKeys {

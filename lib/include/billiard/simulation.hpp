@@ -105,14 +105,6 @@ class Simulation {
   // the rule off. Either may be changed at any time, like the restitution.
   void set_contact_duration(std::optional<double> duration);
   void set_elastic_impact_speed(std::optional<double> speed);
-  // Discs at rest under gravity sleep (lib/src/engine/sleep.cpp), so that a settled bed costs no
-  // events: a disc that leaves a collision with a wall or a sleeping disc slower than `speed`,
-  // resting on walls or sleeping discs that could hold it up, stops and stays put; a disc that
-  // hits a sleeping one at a normal speed of at least `speed` wakes it (and the sleeping discs
-  // resting on it). std::nullopt: automatic (0 for now: off); 0 switches sleeping off and wakes
-  // every sleeping disc. May be changed at any time. While discs can sleep, collisions with
-  // fixed things are never made elastic by the rules above.
-  void set_sleep_speed(std::optional<double> speed);
   // Cell side (>= the largest diameter); 0 = automatic (the default).
   void set_cell_size(double size);
   // Whether each event starts loading the data of the event expected after it (the discs' states
@@ -167,8 +159,6 @@ class Simulation {
   // h = kRestingBounce mean radii, and 0 without gravity.
   double contact_duration() const;
   double elastic_impact_speed() const;
-  double sleep_speed() const;
-  std::vector<int> sleeping_discs() const;  // the discs asleep now, in increasing order
   static constexpr double kRestingBounce = 0.05;
   bool periodic() const;              // a periodic box (see period())
   Vec2 period() const;                // width and height of the periodic box; (0, 0) if none

@@ -29,7 +29,7 @@ static_assert(sizeof(Scheduled) == 32, "Scheduled should stay 32 bytes");
 
 void Simulation::Engine::advance_disc(HotDisc& d, double t) const {
   const double dt = t - d.time;
-  if (has_gravity && !asleep(d)) {  // (a sleeping disc has no velocity and does not fall)
+  if (has_gravity) {
     d.position += dt * (d.velocity + (0.5 * dt) * gravity);
     d.velocity += dt * gravity;
   } else {
@@ -137,21 +137,10 @@ namespace {
 // template parameter so that the common case pays nothing for it. (A branch-free variant,
 // computing the root for every pair and masking it, was measured no faster with billiard_bench
 // at N = 10^4: the early rejections below save the square root and the division for most pairs.)
-// kSleepers: some discs may be asleep (fixed while disc i falls, so that the relative motion is a
-// parabola: disc i against a fixed point at the contact distance).
-template <bool kGravity, bool kSleepers>
+template <bool kGravity>
 inline void test_pair(const BigVector<HotDisc>& hot, const Vec2& gravity, int i, int j, const Vec2& shift,
                       const Vec2& r, const Vec2& v, double radius, double t0, Scheduled& s) {
   const HotDisc& o = hot[j];
-  if (kSleepers && Simulation::Engine::asleep(o)) {
-    const double t = t0 + disc_point_time(r, v, gravity, o.position + shift, radius + o.radius);
-    if (t < s.contact_time) {
-      s.contact_time = t;
-      s.partner = j;
-      s.partner_counter = o.counter;
-    }
-    return;
-  }
   const double dt = t0 - o.time;
   Vec2 rj = o.position + dt * o.velocity + shift;
   Vec2 vj = o.velocity;
@@ -182,20 +171,20 @@ inline void test_pair(const BigVector<HotDisc>& hot, const Vec2& gravity, int i,
 }
 
 // Pair tests of disc i against the discs of cell c, seen through the image shift `shift`.
-template <bool kGravity, bool kSleepers>
+template <bool kGravity>
 inline void scan_discs(const BigVector<HotDisc>& hot, const Grid& grid, const Vec2& gravity, int i, int c,
                        const Vec2& shift, const Vec2& r, const Vec2& v, double radius, double t0, Scheduled& s) {
   const int* items = cell_discs(grid, c);
   const int count = cell_disc_count(grid, c);
-  for (int k = 0; k < count; ++k) test_pair<kGravity, kSleepers>(hot, gravity, i, items[k], shift, r, v, radius, t0, s);
+  for (int k = 0; k < count; ++k) test_pair<kGravity>(hot, gravity, i, items[k], shift, r, v, radius, t0, s);
 }
 
 // The same pair tests against a list of discs (no periodic shift).
-template <bool kGravity, bool kSleepers>
+template <bool kGravity>
 inline void scan_list(const BigVector<HotDisc>& hot, const Vec2& gravity, int i, const int* list, int count,
                       const Vec2& r, const Vec2& v, double radius, double t0, Scheduled& s) {
   const Vec2 none = Vec2::Zero();
-  for (int k = 0; k < count; ++k) test_pair<kGravity, kSleepers>(hot, gravity, i, list[k], none, r, v, radius, t0, s);
+  for (int k = 0; k < count; ++k) test_pair<kGravity>(hot, gravity, i, list[k], none, r, v, radius, t0, s);
 }
 
 }  // namespace
@@ -215,23 +204,19 @@ void Simulation::Engine::scan_cell(int i, int cx, int cy, const Vec2& r, const V
     cy = cy < 0 ? cy + grid.ny : cy - grid.ny;
   }
   const int c = cx + grid.nx * cy;
-  if (sleeping > 0) {
-    scan_discs<true, true>(hot, grid, gravity, i, c, shift, r, v, hot[i].radius, now, s);
-  } else if (has_gravity) {
-    scan_discs<true, false>(hot, grid, gravity, i, c, shift, r, v, hot[i].radius, now, s);
+  if (has_gravity) {
+    scan_discs<true>(hot, grid, gravity, i, c, shift, r, v, hot[i].radius, now, s);
   } else {
-    scan_discs<false, false>(hot, grid, gravity, i, c, shift, r, v, hot[i].radius, now, s);
+    scan_discs<false>(hot, grid, gravity, i, c, shift, r, v, hot[i].radius, now, s);
   }
 }
 
 // Pair tests of disc i (at r, v, time now) against a gathered list of discs (no image shifts).
 void Simulation::Engine::scan_listed(int i, const int* list, int m, const Vec2& r, const Vec2& v, Scheduled& s) const {
-  if (sleeping > 0) {
-    scan_list<true, true>(hot, gravity, i, list, m, r, v, hot[i].radius, now, s);
-  } else if (has_gravity) {
-    scan_list<true, false>(hot, gravity, i, list, m, r, v, hot[i].radius, now, s);
+  if (has_gravity) {
+    scan_list<true>(hot, gravity, i, list, m, r, v, hot[i].radius, now, s);
   } else {
-    scan_list<false, false>(hot, gravity, i, list, m, r, v, hot[i].radius, now, s);
+    scan_list<false>(hot, gravity, i, list, m, r, v, hot[i].radius, now, s);
   }
 }
 
@@ -486,7 +471,11 @@ void Simulation::Engine::collide_pair(int i, int j) {
   HotDisc& b = hot[j];
   advance_disc(a, now);
   advance_disc(b, now);
-  const Vec2 dr = minimum_image(b.position - a.position);  // from i to j
+  Vec2 dr = b.position - a.position;  // from i to j
+  if (periodic) {
+    dr.x() -= period.x() * std::round(dr.x() / period.x());
+    dr.y() -= period.y() * std::round(dr.y() / period.y());
+  }
   Vec2 q;
   if (smooth_elastic) {
     q = collide_smooth_elastic(dr, a.velocity, a.inverse_mass, b.velocity, b.inverse_mass);
@@ -509,8 +498,7 @@ void Simulation::Engine::collide_pair(int i, int j) {
   ++b.counter;
 }
 
-// Returns the contact normal, from the disc's centre towards the wall (not normalised).
-Vec2 Simulation::Engine::collide_wall(int i, int w) {
+void Simulation::Engine::collide_wall(int i, int w) {
   HotDisc& d = hot[i];
   advance_disc(d, now);
   const Wall& wall = walls[w];
@@ -538,23 +526,13 @@ Vec2 Simulation::Engine::collide_wall(int i, int w) {
     const Vec2 sigma = normal.normalized();
     ContactBody body{d.velocity, c.spin, d.inverse_mass, c.inverse_inertia, d.radius};
     ContactBody fixed{Vec2::Zero(), 0.0, 0.0, 0.0, 0.0};
-    q = collide(sigma, body, fixed, restitution_against_fixed(d.velocity.dot(sigma), c.last_collision));
+    q = collide(sigma, body, fixed, restitution_of(d.velocity.dot(sigma), c.last_collision, -kNever));
     d.velocity = body.velocity;
     c.spin = body.spin;
     c.last_collision = now;
   }
   totals.wall_momentum += q.norm();
   ++d.counter;
-  return normal;
-}
-
-// The shortest of the vectors equal to dr up to whole periods (dr itself without a period).
-Vec2 Simulation::Engine::minimum_image(Vec2 dr) const {
-  if (periodic) {
-    dr.x() -= period.x() * std::round(dr.x() / period.x());
-    dr.y() -= period.y() * std::round(dr.y() / period.y());
-  }
-  return dr;
 }
 
 // The restitution of one collision, whose contact points approach at `approach_speed` along the
@@ -567,15 +545,6 @@ Restitution Simulation::Engine::restitution_of(double approach_speed, double las
   if (!recent && !(approach_speed < elastic_impact_speed)) return restitution;
   const bool conserving = restitution.tangential == 1 || restitution.tangential == -1;
   return Restitution{1.0, conserving ? restitution.tangential : -1.0};
-}
-
-// The same for a collision with something fixed (a wall, a sleeping disc) of a disc whose
-// previous collision was at last_i. While discs can sleep, the TC model leaves these collisions
-// alone: a disc cannot collapse against fixed things then (it falls asleep on them, or lift_off
-// keeps it clear of them), and in a slot that fits it exactly, a disc made elastic would bounce
-// between its two sides for ever at one instant.
-Restitution Simulation::Engine::restitution_against_fixed(double approach_speed, double last_i) const {
-  return restitution_of(approach_speed, sleep_speed > 0 ? -kNever : last_i, -kNever);
 }
 
 void Simulation::Engine::record(EventKind kind, int i, int other, int wall) {
@@ -676,18 +645,14 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
         predict_full(i);
         continue;
       }
-      if (asleep(hot[j])) {
-        hit_sleeper(i, j);  // (logs its own events)
-      } else {
-        collide_and_predict(i, j);
-        if (logging) record(EventKind::DiscDisc, i, j, kNoWall);
-      }
+      collide_and_predict(i, j);
+      if (logging) record(EventKind::DiscDisc, i, j, kNoWall);
       ++result.disc_collisions;
     } else {
       const int w = s.wall;
-      const Vec2 normal = collide_wall(i, w);
+      collide_wall(i, w);
       if (logging) record(EventKind::DiscWall, i, kWall, w);
-      leave_fixed_contact(i, normal);
+      predict_full(i);
       ++result.wall_collisions;
     }
     ++result.collisions;
@@ -779,18 +744,28 @@ std::string Simulation::Engine::disc_problem(int i, double tolerance, const Vec2
     return describe("disc ", i, " at (", ri.x(), ", ", ri.y(), ") is not in its cell ", cell_i);
   }
   // No overlap with the discs of the neighbouring cells.
-  std::string overlap;
-  for_each_near(i, [&](int j, const Vec2& shift) {
-    if (!overlap.empty() || (positions ? j <= i : j == i)) return;
-    const double distance = (ri - at(j) - shift).norm();
-    const double contact = d.radius + hot[j].radius;
-    if (distance < contact - tolerance * std::min(d.radius, hot[j].radius)) {
-      overlap = describe("discs ", i, " and ", j, " overlap: distance ", distance, " < ", contact, " at time ", now);
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      int x = d.cx + dx, y = d.cy + dy;
+      Vec2 shift = Vec2::Zero();
+      if (x < 0 || x >= grid.nx || y < 0 || y >= grid.ny) {
+        if (!grid.periodic) continue;
+        if (x < 0) { x += grid.nx; shift.x() = -period.x(); }
+        if (x >= grid.nx) { x -= grid.nx; shift.x() = period.x(); }
+        if (y < 0) { y += grid.ny; shift.y() = -period.y(); }
+        if (y >= grid.ny) { y -= grid.ny; shift.y() = period.y(); }
+      }
+      const int cell = x + grid.nx * y;
+      for (int k = 0; k < cell_disc_count(grid, cell); ++k) {
+        const int j = cell_discs(grid, cell)[k];
+        if (positions ? j <= i : j == i) continue;
+        const double distance = (ri - at(j) - shift).norm();
+        const double contact = d.radius + hot[j].radius;
+        if (distance < contact - tolerance * std::min(d.radius, hot[j].radius)) {
+          return describe("discs ", i, " and ", j, " overlap: distance ", distance, " < ", contact, " at time ", now);
+        }
+      }
     }
-  });
-  if (!overlap.empty()) return overlap;
-  if (asleep(d) && !(d.velocity == Vec2::Zero() && cold[i].spin == 0)) {
-    return describe("disc ", i, " is asleep but moves: velocity (", d.velocity.x(), ", ", d.velocity.y(), "), spin ", cold[i].spin);
   }
   // The next event lies in the future.
   const Scheduled& s = scheduled[i];
@@ -814,8 +789,6 @@ std::string Simulation::Engine::check(double tolerance) const {
   }
   // Heap order, and an entry for every disc's next event.
   if (!queue.valid()) return "event queue out of order, or a disc's next event missing from it";
-  const auto asleep_now = std::count_if(hot.begin(), hot.end(), [](const HotDisc& d) { return asleep(d); });
-  if (asleep_now != sleeping) return describe(asleep_now, " discs asleep, but ", sleeping, " counted");
   return "";
 }
 

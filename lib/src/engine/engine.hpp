@@ -35,7 +35,7 @@ struct HotDisc {
   Vec2 velocity;          // 16: velocity at `time`
   double time;            //  8: time of the last update
   double radius;          //  8
-  double inverse_mass;    //  8: 0 while the disc sleeps (an immovable body, see fall_asleep)
+  double inverse_mass;    //  8
   int counter;            //  4: collisions so far; events remember it to detect staleness
   std::uint16_t cx;       //  2: column and row of the cell holding the centre (its index is
   std::uint16_t cy;       //  2: cx + nx cy; grids have at most 65535 cells per side)
@@ -95,11 +95,8 @@ struct Simulation::Engine {
   // the values in use, chosen at the first advance.
   std::optional<double> contact_duration_setting;
   std::optional<double> elastic_impact_speed_setting;
-  std::optional<double> sleep_speed_setting;
   double contact_duration = 0.0;
   double elastic_impact_speed = 0.0;
-  double sleep_speed = 0.0;
-  double resting_speed = 0.0;  // sqrt(2 |g| kRestingBounce mean radii), the automatic speeds
   double cell_size = 0.0;  // 0: automatic
 
   // ---- discs ----
@@ -123,8 +120,6 @@ struct Simulation::Engine {
   State initial;
   bool logging = false;
   std::vector<EventRecord> log;
-  int sleeping = 0;  // discs asleep now
-  std::vector<int> sleeping_group;  // scratch of try_to_sleep
   bool validate_every_event = false;
   bool check_event_discs = false;
   std::string problem;
@@ -146,25 +141,9 @@ struct Simulation::Engine {
   int* scratch(int which);
   void cross(int i);
   void collide_pair(int i, int j);
-  Vec2 collide_wall(int i, int wall);
+  void collide_wall(int i, int wall);
   Restitution restitution_of(double approach_speed, double last_i, double last_j) const;
-  Restitution restitution_against_fixed(double approach_speed, double last_i) const;
-  Vec2 minimum_image(Vec2 dr) const;
-  // Sleeping discs (Simulation::set_sleep_speed).
-  static bool asleep(const HotDisc& d) { return d.inverse_mass == 0; }
-  void hit_sleeper(int i, int j);
-  void leave_fixed_contact(int i, const Vec2& normal);
-  bool slow(int i) const;
-  bool try_to_sleep(int i);
-  void lift_off(int i, const Vec2& towards);
-  bool supported(int i, const std::vector<int>& group) const;
-  void fall_asleep(const std::vector<int>& group);
-  void wake(int j);
-  void wake_all();
-  template <typename Visit>
-  void for_each_near(int i, Visit visit) const;
   void choose_granular_model();
-  void choose_speeds();
   double wall_time(const Wall& wall, const Vec2& r, const Vec2& v, double radius) const;
   void scan_cell(int i, int cx, int cy, const Vec2& r, const Vec2& v, Scheduled& s) const;
   void scan_listed(int i, const int* list, int m, const Vec2& r, const Vec2& v, Scheduled& s) const;
@@ -185,28 +164,5 @@ struct Simulation::Engine {
 };
 
 inline void ScheduledKeys::prefetch(int i, int tag) const { engine->prefetch_event(i, tag); }
-
-// Calls visit(j, shift) for every disc j in the 3 x 3 cells around disc i's cell (i included),
-// where j's position plus `shift` is its periodic image nearest to those cells.
-template <typename Visit>
-void Simulation::Engine::for_each_near(int i, Visit visit) const {
-  const HotDisc& d = hot[i];
-  for (int dy = -1; dy <= 1; ++dy) {
-    for (int dx = -1; dx <= 1; ++dx) {
-      int x = d.cx + dx, y = d.cy + dy;
-      Vec2 shift = Vec2::Zero();
-      if (x < 0 || x >= grid.nx || y < 0 || y >= grid.ny) {
-        if (!grid.periodic) continue;
-        if (x < 0) { x += grid.nx; shift.x() = -period.x(); }
-        if (x >= grid.nx) { x -= grid.nx; shift.x() = period.x(); }
-        if (y < 0) { y += grid.ny; shift.y() = -period.y(); }
-        if (y >= grid.ny) { y -= grid.ny; shift.y() = period.y(); }
-      }
-      const int cell = x + grid.nx * y;
-      const int* items = cell_discs(grid, cell);
-      for (int k = 0, count = cell_disc_count(grid, cell); k < count; ++k) visit(items[k], shift);
-    }
-  }
-}
 
 }  // namespace billiard

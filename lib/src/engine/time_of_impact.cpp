@@ -151,7 +151,8 @@ double disc_point_time(const Vec2& r, const Vec2& v, const Vec2& g, const Vec2& 
   //      = (g.g/4) t^4 + (v.g) t^3 + (v.v + d.g) t^2 + 2 (d.v) t + d.d - radius^2.
   // Contact is a downward crossing of f. Rounding overlap (f(0) <= 0) while approaching: now.
   const double f0 = d.squaredNorm() - radius * radius;
-  const double df0 = 2 * d.dot(v);
+  double df0 = 2 * d.dot(v);
+  if (grazing(d.dot(v), d, v)) df0 = 0;  // moving along the contact: rounding decides nothing
   if (f0 <= 0) {
     if (df0 < 0 || (df0 == 0 && v.squaredNorm() + d.dot(g) < 0)) return 0.0;
   }
