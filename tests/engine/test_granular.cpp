@@ -316,6 +316,25 @@ TEST(Granular, StuckRunLeavesAValidStateAndSaysWhy) {
   }
 }
 
+TEST(Granular, ShortAdvancesStopStuckLikeOneLongAdvance) {
+  // The collapse above, advanced 100 events at a time: the events at one instant are counted
+  // across the calls, so one of them stops stuck (each call alone is far below the limit of
+  // 1000 + 20 N events at one instant) instead of the loop running for ever.
+  billiard::Simulation sim;
+  sim.add_box(Vec2(0, 0), Vec2(40, 40));
+  sim.set_gravity(Vec2(0, -1));
+  sim.add_random_discs(200, 1.0, 1.0, 1.0, 7);
+  sim.set_restitution(0.8);
+  sim.set_contact_duration(0.0);
+  sim.set_elastic_impact_speed(0.0);
+  bool stuck = false;
+  for (int call = 0; call < 100000 && !stuck && sim.time() < 50; ++call) {
+    stuck = sim.advance(100, 50.0 - sim.time()).stuck;
+  }
+  EXPECT_TRUE(stuck) << "time " << sim.time();
+  EXPECT_EQ(sim.validate(), "");
+}
+
 TEST(Granular, StoppingAndGoingOnChangesNothing) {
   // A settling granular bed run in pieces (stopped by collision counts and by durations) ends
   // bit for bit where one uninterrupted run does: a stop changes no disc and no model state.

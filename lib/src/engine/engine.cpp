@@ -573,10 +573,8 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
   // Events at one instant are normal in small numbers (corners, three discs touching); this many
   // means the dynamics cannot go on (resting contact under gravity, inelastic collapse).
   const std::int64_t stuck_limit = 1000 + 20 * static_cast<std::int64_t>(hot.size());
-  std::int64_t same_instant = 0;
   const std::int64_t crossing_limit = 1000000 + 1000 * static_cast<std::int64_t>(hot.size());
   std::int64_t crossings_in_a_row = 0;
-  double last_time = now;
   while (result.collisions < max_events && !hot.empty()) {
     const auto top = queue.top();
     if (top.time > end || top.time == kNever) {
@@ -584,8 +582,8 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
       break;
     }
     // (Checked before the pop, so that a stop leaves every disc's event in the queue.)
-    if (top.time == last_time) {
-      if (++same_instant > stuck_limit) {
+    if (top.time == instant) {
+      if (++events_at_instant > stuck_limit) {
         result.stuck = true;
         result.stuck_reason = describe("stuck at time ", now, ": more than ", stuck_limit,
                                        " events at that instant (discs resting on each other or on a wall under "
@@ -593,8 +591,8 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
         break;
       }
     } else {
-      same_instant = 0;
-      last_time = top.time;
+      events_at_instant = 0;
+      instant = top.time;
     }
     queue.pop();
     const int i = top.disc;

@@ -113,6 +113,10 @@ struct Simulation::Engine {
   Simulation::Prefetch prefetch_mode = Simulation::Prefetch::Automatic;
   bool prefetch_ahead = false;
   double now = 0.0;
+  // The time of the last event and how many events came at it, counted across advance() calls
+  // (so that a loop of short calls stops stuck where one long call would).
+  double instant = 0.0;
+  std::int64_t events_at_instant = 0;
   Grid grid;
   CalendarQueue<ScheduledKeys> queue;
   std::vector<int> neighbours;  // scratch: the discs of two 3 x 3 blocks of cells
