@@ -294,10 +294,10 @@ TEST(Granular, ThreeDiscCollapseInANarrowChannel) {
   EXPECT_NEAR(sim.kinetic_energy(), 1.0 / 6, 1e-3);
 }
 
-TEST(Granular, StuckRunLeavesAValidStateAndSaysWhy) {
-  // The model off, a bed in a box under gravity collapses: the run stops and says why, and every
-  // disc still has its event in the queue, so validate() is clean after it and after each further
-  // advance (which stops again at once: the discs have collapsed to rounding).
+namespace {
+// 200 discs in the box (0,0)-(40,40) under gravity (0, -1), restitution 0.8, with the granular
+// model off: the bed collapses inelastically within a few time units.
+billiard::Simulation collapsing_bed() {
   billiard::Simulation sim;
   sim.add_box(Vec2(0, 0), Vec2(40, 40));
   sim.set_gravity(Vec2(0, -1));
@@ -305,6 +305,15 @@ TEST(Granular, StuckRunLeavesAValidStateAndSaysWhy) {
   sim.set_restitution(0.8);
   sim.set_contact_duration(0.0);
   sim.set_elastic_impact_speed(0.0);
+  return sim;
+}
+}  // namespace
+
+TEST(Granular, StuckRunLeavesAValidStateAndSaysWhy) {
+  // The model off, a bed in a box under gravity collapses: the run stops and says why, and every
+  // disc still has its event in the queue, so validate() is clean after it and after each further
+  // advance (which stops again at once: the discs have collapsed to rounding).
+  billiard::Simulation sim = collapsing_bed();
   const billiard::AdvanceResult r = sim.advance(kAllEvents, 50.0);
   ASSERT_TRUE(r.stuck) << "expected the collapse to stop the run";
   EXPECT_NE(r.stuck_reason.find("stuck at time"), std::string::npos) << r.stuck_reason;
@@ -320,13 +329,7 @@ TEST(Granular, ShortAdvancesStopStuckLikeOneLongAdvance) {
   // The collapse above, advanced 100 events at a time: the events at one instant are counted
   // across the calls, so one of them stops stuck (each call alone is far below the limit of
   // 1000 + 20 N events at one instant) instead of the loop running for ever.
-  billiard::Simulation sim;
-  sim.add_box(Vec2(0, 0), Vec2(40, 40));
-  sim.set_gravity(Vec2(0, -1));
-  sim.add_random_discs(200, 1.0, 1.0, 1.0, 7);
-  sim.set_restitution(0.8);
-  sim.set_contact_duration(0.0);
-  sim.set_elastic_impact_speed(0.0);
+  billiard::Simulation sim = collapsing_bed();
   bool stuck = false;
   for (int call = 0; call < 100000 && !stuck && sim.time() < 50; ++call) {
     stuck = sim.advance(100, 50.0 - sim.time()).stuck;

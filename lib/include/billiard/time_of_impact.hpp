@@ -16,13 +16,6 @@
 
 namespace billiard {
 
-// Whether a relative velocity v makes a right angle with the line of centres d up to rounding
-// (cosine below 1e-12; b = d.v): two bodies in contact sliding along each other, which rounding
-// alone would call approaching or receding.
-inline bool grazing(double b, const Vec2& d, const Vec2& v) {
-  return b * b <= 1e-24 * d.squaredNorm() * v.squaredNorm();
-}
-
 // Real roots of a t^2 + b t + c = 0 in increasing order (count 0, 1 or 2; a double root is
 // reported twice), computed with the stable form of Numerical Recipes 5.6:
 // q = -(b + sign(b) sqrt(b^2 - 4ac)) / 2, roots q / a and c / q. When a = 0 the equation is

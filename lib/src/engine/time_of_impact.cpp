@@ -151,8 +151,10 @@ double disc_point_time(const Vec2& r, const Vec2& v, const Vec2& g, const Vec2& 
   //      = (g.g/4) t^4 + (v.g) t^3 + (v.v + d.g) t^2 + 2 (d.v) t + d.d - radius^2.
   // Contact is a downward crossing of f. Rounding overlap (f(0) <= 0) while approaching: now.
   const double f0 = d.squaredNorm() - radius * radius;
-  double df0 = 2 * d.dot(v);
-  if (grazing(d.dot(v), d, v)) df0 = 0;  // moving along the contact: rounding decides nothing
+  // Moving along the contact (v at a right angle to d up to rounding, cosine below 1e-12):
+  // neither approaching nor receding, whatever the sign rounding gives d.v.
+  const double b = d.dot(v);
+  const double df0 = b * b <= 1e-24 * d.squaredNorm() * v.squaredNorm() ? 0.0 : 2 * b;
   if (f0 <= 0) {
     if (df0 < 0 || (df0 == 0 && v.squaredNorm() + d.dot(g) < 0)) return 0.0;
   }
