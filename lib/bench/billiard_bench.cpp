@@ -16,7 +16,7 @@
 // --granular times, instead, beds settling under gravity g = (0, -1): N discs of radius 1 at random
 // places (area fraction 0.3), kT = 1, the given restitutions, the granular model at its defaults,
 // run to --settle-time in quarters. It prints collisions per second and the collisions per disc
-// per unit of simulated time in each quarter, which level off once the bed has formed.
+// per unit of simulated time in each quarter, which fall to 0 once the bed has fallen asleep.
 // Rates are per second of this thread's CPU time (--wall: elapsed time instead). --memory prints,
 // instead, what this machine's memory does for one thread with arrays of the given sizes (MB),
 // allocated like the engine's: the latency of one random cache-line read that depends on the
@@ -62,9 +62,9 @@ void granular_settling(const std::string& container, long n, double restitution,
   const double area = static_cast<double>(n) * kPi / 0.3;
   billiard::Simulation sim;
   if (container == "box") {
-    // About 2.9 times as high as wide, and not a whole number of diameters wide (a bottom row that
-    // exactly fills the floor has no room and rattles ever faster: see the README).
-    const double width = 2 * std::floor(std::sqrt(area / 2.9) / 2) + 0.5;
+    // About 2.9 times as high as wide, and a whole number of diameters wide: a bottom row can fill
+    // the floor exactly, the hardest case (without sleeping it rattles ever faster, see the README).
+    const double width = 2 * std::floor(std::sqrt(area / 2.9) / 2);
     sim.add_box(Vec2(0, 0), Vec2(width, area / width));
   } else {
     sim.set_circular_table(std::sqrt(area / kPi));

@@ -104,6 +104,8 @@ const char* wall_kind(WallKind kind) {
 void bind_simulation(py::module_& m) {
   m.attr("DISC_DISC") = static_cast<int>(EventKind::DiscDisc);
   m.attr("DISC_WALL") = static_cast<int>(EventKind::DiscWall);
+  m.attr("SLEEP") = static_cast<int>(EventKind::Sleep);
+  m.attr("WAKE") = static_cast<int>(EventKind::Wake);
 
   py::class_<Simulation> sim(m, "Simulation", R"(Event-driven simulation of hard discs (the library in lib/).
 
@@ -144,7 +146,16 @@ mass (n,), radius (n,), inertia (n,). Bad input raises ValueError naming the dis
       .def("set_elastic_impact_speed", &Simulation::set_elastic_impact_speed, py::arg("speed"),
            "Granular gases (restitution < 1): a collision whose normal approach speed is below `speed` is\n"
            "elastic, so discs resting on a floor under gravity g bounce at most speed^2 / (2 g) high. None:\n"
-           "automatic (default: sqrt(2 |g| 0.05 mean radius), 0 without gravity); 0: off.")
+           "automatic (sqrt(2 |g| 0.05 mean radius); 0 without gravity or while discs can sleep); 0: off.")
+      .def("set_sleep_speed", &Simulation::set_sleep_speed, py::arg("speed"),
+           "Granular beds under gravity: discs slower than `speed` for 3 speed / |g|, connected by contacts and\n"
+           "touching a wall or a sleeping disc, fall asleep together (stop; no events; immovable). A hit at a\n"
+           "normal speed of at least `speed` wakes a sleeping disc and the ones resting on it. None: automatic\n"
+           "(sqrt(2 |g| 0.05 mean radius) when gravity acts and restitution < 1, else 0); 0: off (wakes every\n"
+           "sleeping disc). While discs can sleep, the automatic elastic impact speed is 0.")
+      .def_property_readonly("sleep_speed", &Simulation::sleep_speed,
+                             "The sleep speed in use (chosen at the first advance when automatic).")
+      .def("sleeping_discs", &Simulation::sleeping_discs, "The indices of the discs asleep now.")
       .def_property_readonly("contact_duration", &Simulation::contact_duration,
                              "The TC model's duration in use (chosen at the first advance when automatic).")
       .def_property_readonly("elastic_impact_speed", &Simulation::elastic_impact_speed,
@@ -221,12 +232,13 @@ mass (n,), radius (n,), inertia (n,). Bad input raises ValueError naming the dis
           "initial_state", [](const Simulation& s) { return state_dict(s, s.initial_state()); },
           "The discs at the first advance() (or now, before it).")
       .def("enable_event_log", &Simulation::enable_event_log, py::arg("on") = true,
-           "Record every collision (enable before the first advance() to replay).")
+           "Record every event (enable before the first advance() to replay).")
       .def("clear_event_log", &Simulation::clear_event_log, "Forget the recorded events (the log keeps recording if enabled).")
       .def_property_readonly(
           "event_log", [](const Simulation& s) { return event_log_dict(s.event_log()); },
-          "The recorded collisions as a dict of arrays: time, kind (DISC_DISC or DISC_WALL), disc, other (-1 for a\n"
-          "wall), wall, and position, velocity, spin of disc and other just after the event.")
+          "The recorded events as a dict of arrays: time, kind (DISC_DISC, DISC_WALL, or SLEEP and WAKE for a disc\n"
+          "falling asleep or waking up), disc, other (-1 for a wall, -2 for none), wall, and position, velocity,\n"
+          "spin of disc and other just after the event.")
       .def_property_readonly(
           "totals",
           [](const Simulation& s) {

@@ -101,6 +101,8 @@ Snapshot snapshot(const Simulation& sim) {
   s.add("restitution", sim.restitution().tangential);
   s.add("contact duration", sim.contact_duration());
   s.add("elastic impact speed", sim.elastic_impact_speed());
+  s.add("sleep speed", sim.sleep_speed());
+  s.add("sleeping discs", static_cast<std::int64_t>(sim.sleeping_discs().size()));
   s.add("periodic", std::int64_t{sim.periodic()});
   s.add("period", sim.period());
   s.add("table radius", sim.table_radius());
@@ -464,6 +466,9 @@ Call bad_call(Rng& rng, const Start& start) {
       if (coin(rng)) {
         return refused("set_contact_duration(" + show(value) + ")", {"duration"}, [value](Simulation& s) { s.set_contact_duration(value); }, false);
       }
+      if (coin(rng)) {
+        return refused("set_sleep_speed(" + show(value) + ")", {"speed"}, [value](Simulation& s) { s.set_sleep_speed(value); }, false);
+      }
       return refused("set_elastic_impact_speed(" + show(value) + ")", {"speed"}, [value](Simulation& s) { s.set_elastic_impact_speed(value); }, false);
     }
     case 15: {
@@ -495,6 +500,7 @@ Call plausible_call(Rng& rng) {
       const std::optional<double> value = coin(rng) ? std::nullopt : std::optional<double>(pick(rng, std::vector<double>{0.0, 1e-3, 1.0, 1e308}));
       const std::string text = value ? show(*value) : "automatic";
       if (coin(rng)) return any("set_contact_duration(" + text + ")", false, [value](Simulation& s) { s.set_contact_duration(value); });
+      if (coin(rng)) return any("set_sleep_speed(" + text + ")", false, [value](Simulation& s) { s.set_sleep_speed(value); });
       return any("set_elastic_impact_speed(" + text + ")", false, [value](Simulation& s) { s.set_elastic_impact_speed(value); });
     }
     case 0:

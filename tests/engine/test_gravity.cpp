@@ -14,8 +14,12 @@ using engine_test::make_disc;
 TEST(Gravity, FreeFallOntoAFloorBouncesEveryTwoVOverG) {
   // Box [0, 100]^2, g = 10 downwards, radius 1 released at rest with its lowest point 20 above the
   // floor: lands at t = sqrt(2 h / g) = 2 with speed v = g t = 20, and (elastic) bounces back to
-  // the same height: landings every 2 v / g = 4, at 2, 6, 10, 14, 18. Tolerance 1e-12: rounding
-  // of the quadratic roots accumulates over the bounces.
+  // the same height: landings every 2 v / g = 4, at 2, 6, 10, 14, 18. The disc meets the floor
+  // kFixedContactSlack radii lower than touching (h = 20 + 1e-10), which shifts those times by
+  // 5e-12 per landing: the test includes it. Tolerance 1e-12: rounding of the quadratic roots
+  // accumulates over the bounces.
+  const double h = 20 + billiard::Simulation::kFixedContactSlack;
+  const double v = std::sqrt(2 * 10 * h);
   billiard::Simulation sim;
   sim.add_box(Vec2(0, 0), Vec2(100, 100));
   sim.set_gravity(Vec2(0, -10));
@@ -24,7 +28,7 @@ TEST(Gravity, FreeFallOntoAFloorBouncesEveryTwoVOverG) {
   sim.advance(5);
   ASSERT_EQ(sim.event_log().size(), 5u);
   for (int k = 0; k < 5; ++k) {
-    EXPECT_NEAR(sim.event_log()[k].time, 2.0 + 4.0 * k, 1e-12) << "bounce " << k;
+    EXPECT_NEAR(sim.event_log()[k].time, (v + 2 * v * k) / 10, 1e-12) << "bounce " << k;
     EXPECT_NEAR(sim.event_log()[k].velocity.y(), 20.0, 1e-10);
   }
 }
@@ -32,7 +36,9 @@ TEST(Gravity, FreeFallOntoAFloorBouncesEveryTwoVOverG) {
 TEST(Gravity, DiscDroppedInTheCircularTable) {
   // Table R = 10, radius 1, released at rest at the centre with g = 2 downwards: reaches the
   // rim (reach 9) at t = sqrt(2 * 9 / 2) = 3, bounces straight up, is back at the centre at rest
-  // at t = 6 and lands again at t = 9: landings every 6.
+  // at t = 6 and lands again at t = 9: landings every 6. With the fixed contact slack the reach is
+  // 9 + 1e-10: t = sqrt(reach), every 2 sqrt(reach).
+  const double reach = 9 + billiard::Simulation::kFixedContactSlack;
   billiard::Simulation sim;
   sim.set_circular_table(10);
   sim.set_gravity(Vec2(0, -2));
@@ -40,15 +46,15 @@ TEST(Gravity, DiscDroppedInTheCircularTable) {
   sim.enable_event_log(true);
   sim.advance(3);
   ASSERT_EQ(sim.event_log().size(), 3u);
-  EXPECT_NEAR(sim.event_log()[0].time, 3.0, 1e-12);
-  EXPECT_NEAR(sim.event_log()[1].time, 9.0, 1e-11);
-  EXPECT_NEAR(sim.event_log()[2].time, 15.0, 1e-11);
-  EXPECT_NEAR(sim.event_log()[0].position.y(), -9.0, 1e-11);
+  EXPECT_NEAR(sim.event_log()[0].time, std::sqrt(reach), 1e-12);
+  EXPECT_NEAR(sim.event_log()[1].time, 3 * std::sqrt(reach), 1e-11);
+  EXPECT_NEAR(sim.event_log()[2].time, 5 * std::sqrt(reach), 1e-11);
+  EXPECT_NEAR(sim.event_log()[0].position.y(), -reach, 1e-11);
 }
 
 TEST(Gravity, SidewaysGravityAnyDirection) {
   // Gravity along +x of 8: from rest at x = 5 in the box [0, 20]^2 (radius 1), the wall x = 20 is
-  // reached when 14 = 4 t^2: t = sqrt(3.5).
+  // reached when 14 = 4 t^2: t = sqrt(3.5) (14 + 1e-10 with the fixed contact slack).
   billiard::Simulation sim;
   sim.add_box(Vec2(0, 0), Vec2(20, 20));
   sim.set_gravity(Vec2(8, 0));
@@ -56,7 +62,7 @@ TEST(Gravity, SidewaysGravityAnyDirection) {
   sim.enable_event_log(true);
   sim.advance(1);
   ASSERT_EQ(sim.event_log().size(), 1u);
-  EXPECT_NEAR(sim.event_log()[0].time, std::sqrt(3.5), 1e-13);
+  EXPECT_NEAR(sim.event_log()[0].time, std::sqrt((14 + billiard::Simulation::kFixedContactSlack) / 4), 1e-13);
 }
 
 namespace {

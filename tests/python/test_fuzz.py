@@ -181,7 +181,8 @@ def snapshot(sim):
         "walls": sim.walls, "gravity": sim.gravity, "period": sim.period, "table_radius": sim.table_radius,
         "totals": sim.totals, "event_log": sim.event_log, "kinetic_energy": sim.kinetic_energy(),
         "potential_energy": sim.potential_energy(), "contact_duration": sim.contact_duration,
-        "elastic_impact_speed": sim.elastic_impact_speed,
+        "elastic_impact_speed": sim.elastic_impact_speed, "sleep_speed": sim.sleep_speed,
+        "sleeping_discs": sim.sleeping_discs(),
     })
 
 
@@ -293,6 +294,8 @@ def bad_simulation_call(rng, start):
     if rng.random() < 0.5:
         return call(f"set_contact_duration({value!r})", lambda s: s.set_contact_duration(value), kind, "duration",
                     setup=False)
+    if rng.random() < 0.5:
+        return call(f"set_sleep_speed({value!r})", lambda s: s.set_sleep_speed(value), kind, "speed", setup=False)
     return call(f"set_elastic_impact_speed({value!r})", lambda s: s.set_elastic_impact_speed(value), kind, "speed",
                 setup=False)
 

@@ -1,6 +1,6 @@
 """Granular gases through the Python module: the granular model's calls (set_contact_duration,
-set_elastic_impact_speed, their properties), the stop reason, and the issue that made them: an
-inelastic bed under gravity that used to stall and corrupt its state now runs to its end. The
+set_elastic_impact_speed, set_sleep_speed, their properties), sleeping discs in the event log,
+the stop reason, and an inelastic bed under gravity running to its end and falling asleep. The
 physics is tested by the C++ suite tests/engine/test_granular.cpp."""
 
 import math
@@ -46,18 +46,23 @@ def test_model_values_are_chosen_at_the_first_advance_and_can_be_set():
     sim = falling_bed(0.8)
     assert sim.contact_duration == 0 and sim.elastic_impact_speed == 0  # not chosen yet
     sim.advance(events=10)
-    # Under gravity |g| = 1, mean radius 1: at least 0.01 sqrt(a / g); sqrt(2 g 0.05 a).
+    # Under gravity |g| = 1, mean radius 1: at least 0.01 sqrt(a / g); discs sleep below
+    # sqrt(2 g 0.05 a), and then slow impacts are not made elastic.
     assert sim.contact_duration >= 0.01
-    assert sim.elastic_impact_speed == pytest.approx(math.sqrt(2 * 0.05))
+    assert sim.sleep_speed == pytest.approx(math.sqrt(2 * 0.05))
+    assert sim.elastic_impact_speed == 0
     sim.set_contact_duration(0.5)
-    sim.set_elastic_impact_speed(0)
-    assert sim.contact_duration == 0.5 and sim.elastic_impact_speed == 0
+    sim.set_elastic_impact_speed(0.2)
+    assert sim.contact_duration == 0.5 and sim.elastic_impact_speed == 0.2
+    sim.set_sleep_speed(0)  # no sleeping: the slow-impact rule takes over again
     sim.set_elastic_impact_speed(None)  # automatic again
+    assert sim.sleep_speed == 0
     assert sim.elastic_impact_speed == pytest.approx(math.sqrt(2 * 0.05))
 
 
 @pytest.mark.parametrize("call,argument", [("set_contact_duration", "duration"),
-                                           ("set_elastic_impact_speed", "speed")])
+                                           ("set_elastic_impact_speed", "speed"),
+                                           ("set_sleep_speed", "speed")])
 @pytest.mark.parametrize("bad", [-1.0, math.nan, math.inf])
 def test_bad_model_values_are_refused_naming_the_argument(call, argument, bad):
     sim = falling_bed(0.8)
@@ -71,9 +76,41 @@ def test_a_stuck_run_says_why_and_stays_valid():
     sim = falling_bed(0.8)
     sim.set_contact_duration(0)
     sim.set_elastic_impact_speed(0)
+    sim.set_sleep_speed(0)
     result = sim.advance(time=50)
     assert result["stuck"]
     assert "stuck at time" in result["stuck_reason"]
     assert sim.validate() == ""
     sim.advance(time=50)
+    assert sim.validate() == ""
+
+
+def test_a_bed_in_a_box_exactly_20_discs_wide_falls_asleep():
+    # The box 40 wide holds exactly 20 discs per row: without sleeping, the bottom row's sideways
+    # rattling grows for ever (over 2,000 collisions per disc per unit time by t = 200). With it,
+    # every disc is asleep by t = 100 and the bed costs no events.
+    sim = falling_bed(0.5)
+    sim.advance(time=100)
+    assert sim.sleeping_discs() == list(range(200))
+    assert (sim.current_state["velocity"] == 0).all()
+    result = sim.advance(time=10)
+    assert result["collisions"] == 0 and sim.time == pytest.approx(110)
+    assert sim.validate() == ""
+
+
+def test_sleeping_is_in_the_event_log_and_the_replay_keeps_sleepers_still():
+    sim = falling_bed(0.5, table=True)
+    sim.enable_event_log(True)
+    sim.advance(time=100)
+    assert len(sim.sleeping_discs()) == 200
+    log = sim.event_log
+    assert billiard.SLEEP in set(log["kind"].tolist())
+    assert set(log["other"][log["kind"] == billiard.SLEEP].tolist()) == {-2}
+    # The replay's state at the end is the run's: sleeping discs stay where they fell asleep.
+    *_, last = sim.replay_by_time(50)
+    assert last["time"] == pytest.approx(100)
+    assert last["position"] == pytest.approx(sim.current_state["position"], abs=1e-12)
+    sim.set_sleep_speed(0)  # wakes them all
+    assert sim.sleeping_discs() == []
+    assert billiard.WAKE in set(sim.event_log["kind"].tolist())
     assert sim.validate() == ""

@@ -33,11 +33,13 @@ struct State {
   Eigen::VectorXd spins;    // N
 };
 
-// One recorded collision (the event log). `other` is the second disc, or kWall (-1, as in the
-// course) for a wall hit, in which case `wall` is the wall's index (see Simulation::walls());
-// otherwise wall = kNoWall. Positions and velocities are those just after the collision (at
-// `time`); for a wall hit the other_* fields are zero.
+// One recorded event (the event log): a collision, or a disc falling asleep or waking up (see
+// Simulation::set_sleep_speed). `other` is the second disc, or kWall (-1, as in the course) for a
+// wall hit, in which case `wall` is the wall's index (see Simulation::walls()), or kNoOther for
+// Sleep and Wake; wall = kNoWall unless a wall was hit. Positions and velocities are those just
+// after the event (at `time`); the other_* fields are zero unless `other` is a disc.
 inline constexpr int kNoWall = -1;
+inline constexpr int kNoOther = -2;
 struct EventRecord {
   double time = 0.0;
   EventKind kind = EventKind::DiscDisc;

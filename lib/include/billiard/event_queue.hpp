@@ -50,7 +50,7 @@
 
 namespace billiard {
 
-enum class EventKind : int { DiscDisc, DiscWall, CellCrossing };
+enum class EventKind : int { DiscDisc, DiscWall, CellCrossing, Sleep, Wake };
 
 // Keys held in a vector by the caller (tests, small tools).
 struct VectorKeys {

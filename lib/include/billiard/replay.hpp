@@ -6,9 +6,9 @@
 //   billiard::Replay replay(sim);
 //   while (!replay.finished()) draw(replay.after_next_event());
 //
-// Between events every disc flies freely (r + v t + g t^2 / 2), so each disc's last logged
-// position and velocity fix it. Each step costs O(discs touched) to apply the events plus O(N)
-// to produce the state: a whole replay is linear in its length, unlike calling
+// Between events every disc flies freely (r + v t + g t^2 / 2) or sleeps, so each disc's last
+// logged position and velocity (and whether it fell asleep there) fix it. Each step costs
+// O(discs touched) to apply the events plus O(N) to produce the state: a whole replay is linear in its length, unlike calling
 // Simulation::replay_after_event(k) for every k. The log must have been enabled from the first
 // advance() on, and the simulation must outlive the Replay (it reads the log as it goes, so a
 // run advanced further while replaying is followed too).
@@ -18,6 +18,7 @@
 #include "billiard/simulation.hpp"
 
 #include <cstddef>
+#include <vector>
 
 namespace billiard {
 
@@ -51,6 +52,7 @@ class Replay {
   const Simulation* simulation_;
   State last_;                  // each disc as last logged (position, velocity, spin) ...
   Eigen::VectorXd since_;       // ... and the time of that record
+  std::vector<bool> asleep_;    // fell asleep at that record (stays put until woken)
   std::size_t next_ = 0;
   double time_;                 // time of the last state produced
   Vec2 gravity_;

@@ -94,17 +94,29 @@ class Simulation {
   void set_restitution(double normal, double tangential = -1.0);  // see collide.hpp
   // Granular gases (normal restitution < 1). Inelastic collisions can come infinitely often in a
   // finite time (inelastic collapse), and a disc settling on a floor under gravity bounces ever
-  // lower and faster: event-driven dynamics would stop there. Two rules, on by default, make such
-  // collisions elastic; they only ever switch dissipation off, so energy never increases:
+  // lower and faster: event-driven dynamics would stop there. Three rules, on by default, deal
+  // with it; they only ever take energy away or switch dissipation off, never add energy:
   //  - the TC model (Luding & McNamara 1998): a collision less than `duration` after the previous
-  //    collision of either disc is elastic, as if the two were one longer contact;
+  //    collision of either disc is elastic, as if the two were one longer contact (for two moving
+  //    discs, their previous collisions with moving discs count; for a disc meeting a wall or a
+  //    sleeping disc, its previous collision of any kind);
   //  - slow impacts (Poschel & Schwager, Computational Granular Dynamics, ch. 3): a collision
   //    whose contact points approach at less than `speed` along the normal is elastic, so that a
-  //    disc resting on a floor under gravity g bounces at most speed^2 / (2 g) high.
+  //    disc resting on a floor under gravity g bounces at most speed^2 / (2 g) high;
+  //  - sleeping (set_sleep_speed), which takes the place of slow impacts under gravity.
   // std::nullopt chooses automatically at the first advance (see contact_duration()); 0 switches
   // the rule off. Either may be changed at any time, like the restitution.
   void set_contact_duration(std::optional<double> duration);
   void set_elastic_impact_speed(std::optional<double> speed);
+  // Discs at rest under gravity sleep, so that a settled bed costs no events (sleep.cpp): discs
+  // slower than `speed` for 3 speed / |g|, connected by contacts and touching a wall or a sleeping
+  // disc, stop together; a sleeping disc is immovable and has no events. A disc hitting one at a
+  // normal speed of at least `speed` wakes it (and the sleeping discs resting on it); slower hits
+  // bounce off it. std::nullopt: automatic, sqrt(2 |g| h) with h = kRestingBounce mean radii when
+  // gravity acts and the normal restitution is below 1, else 0; 0 switches sleeping off and wakes
+  // every sleeping disc. May be changed at any time. While discs can sleep, the automatic elastic
+  // impact speed is 0.
+  void set_sleep_speed(std::optional<double> speed);
   // Cell side (>= the largest diameter); 0 = automatic (the default).
   void set_cell_size(double size);
   // Whether each event starts loading the data of the event expected after it (the discs' states
@@ -155,11 +167,19 @@ class Simulation {
   Restitution restitution() const;
   // The granular model's values in use (automatic ones are chosen at the first advance; 0 before
   // it). Automatic duration: 1e-4 mean radius / rms speed (of the discs at the first advance),
-  // under gravity at least 0.01 sqrt(mean radius / |g|). Automatic speed: sqrt(2 |g| h) with
-  // h = kRestingBounce mean radii, and 0 without gravity.
+  // under gravity at least 0.01 sqrt(mean radius / |g|). Automatic elastic impact speed:
+  // sqrt(2 |g| h) with h = kRestingBounce mean radii; 0 without gravity or while discs can sleep.
   double contact_duration() const;
   double elastic_impact_speed() const;
+  double sleep_speed() const;
+  std::vector<int> sleeping_discs() const;  // the discs asleep now, in increasing order
   static constexpr double kRestingBounce = 0.05;
+  // Under gravity a disc meets fixed things (walls, sleeping discs) this fraction of its radius
+  // closer than touching: a disc at rest on a floor, or sliding along it, would otherwise meet it
+  // again at once after each bounce (approach speed 0), for ever at one instant. With the slack
+  // it drops that far and bounces (the drop gives it the speed: no energy is gained). Ten times
+  // below validate()'s tolerance.
+  static constexpr double kFixedContactSlack = 1e-10;
   bool periodic() const;              // a periodic box (see period())
   Vec2 period() const;                // width and height of the periodic box; (0, 0) if none
   double table_radius() const;        // radius of the circular table; 0 if none

@@ -36,7 +36,7 @@ from ._billiard import (  # noqa: F401  (re-exported)
 from . import _billiard
 
 if hasattr(_billiard, "Simulation"):
-    from ._billiard import DISC_DISC, DISC_WALL, Simulation  # noqa: F401
+    from ._billiard import DISC_DISC, DISC_WALL, SLEEP, WAKE, Simulation  # noqa: F401
 
     def _replay_by_event(self):
         """Yields the state (a dict like current_state) just after each logged event, in order.
@@ -67,6 +67,6 @@ if hasattr(_billiard, "Simulation"):
     Simulation.replay_by_time = _replay_by_time
 
 __all__ = [
-    "DISC_DISC", "DISC_WALL", "Simulation", "WALL", "Collision", "Rng", "correct_energy_drift", "course_implementation", "init_billiard",
+    "DISC_DISC", "DISC_WALL", "SLEEP", "WAKE", "Simulation", "WALL", "Collision", "Rng", "correct_energy_drift", "course_implementation", "init_billiard",
     "init_velocities", "kinetic_energy", "movie", "propagate", "visualize_table",
 ]

@@ -22,6 +22,8 @@
 namespace billiard {
 
 static_assert(sizeof(HotDisc) == 64, "HotDisc should fill exactly one cache line");
+// Events less than this fraction of the time apart count as one instant (see advance).
+constexpr double kInstant = 1e-10;
 // Automatic cell side: kCellsPerDisc / sqrt(number density), but never below one diameter.
 constexpr double kCellsPerDisc = 0.8;
 
@@ -29,7 +31,7 @@ static_assert(sizeof(Scheduled) == 32, "Scheduled should stay 32 bytes");
 
 void Simulation::Engine::advance_disc(HotDisc& d, double t) const {
   const double dt = t - d.time;
-  if (has_gravity) {
+  if (has_gravity && !asleep(d)) {  // (a sleeping disc stays put)
     d.position += dt * (d.velocity + (0.5 * dt) * gravity);
     d.velocity += dt * gravity;
   } else {
@@ -121,11 +123,11 @@ void Simulation::Engine::prepare() {
 double Simulation::Engine::wall_time(const Wall& wall, const Vec2& r, const Vec2& v, double radius) const {
   switch (wall.kind) {
     case WallKind::Segment:
-      return disc_segment_time(r, v, gravity, wall.a, wall.b, radius);
+      return disc_segment_time(r, v, gravity, wall.a, wall.b, fixed_reach(radius));
     case WallKind::Point:
-      return disc_point_time(r, v, gravity, wall.a, radius);
+      return disc_point_time(r, v, gravity, wall.a, fixed_reach(radius));
     case WallKind::Circle:
-      return disc_in_circle_time(r - wall.a, v, gravity, wall.radius - radius);
+      return disc_in_circle_time(r - wall.a, v, gravity, wall.radius - fixed_reach(radius));
   }
   return kNever;
 }
@@ -137,10 +139,22 @@ namespace {
 // template parameter so that the common case pays nothing for it. (A branch-free variant,
 // computing the root for every pair and masking it, was measured no faster with billiard_bench
 // at N = 10^4: the early rejections below save the square root and the division for most pairs.)
-template <bool kGravity>
+// kSleepers: some discs may be asleep: fixed while disc i falls, so that i meets one as a point
+// at the contact distance (less the fixed contact slack, see fixed_reach).
+template <bool kGravity, bool kSleepers>
 inline void test_pair(const BigVector<HotDisc>& hot, const Vec2& gravity, int i, int j, const Vec2& shift,
                       const Vec2& r, const Vec2& v, double radius, double t0, Scheduled& s) {
   const HotDisc& o = hot[j];
+  if (kSleepers && Simulation::Engine::asleep(o)) {
+    const double reach = radius * (1 - Simulation::kFixedContactSlack) + o.radius;
+    const double t = t0 + disc_point_time(r, v, gravity, o.position + shift, reach);
+    if (t < s.contact_time) {
+      s.contact_time = t;
+      s.partner = j;
+      s.partner_counter = o.counter;
+    }
+    return;
+  }
   const double dt = t0 - o.time;
   Vec2 rj = o.position + dt * o.velocity + shift;
   Vec2 vj = o.velocity;
@@ -171,20 +185,20 @@ inline void test_pair(const BigVector<HotDisc>& hot, const Vec2& gravity, int i,
 }
 
 // Pair tests of disc i against the discs of cell c, seen through the image shift `shift`.
-template <bool kGravity>
+template <bool kGravity, bool kSleepers>
 inline void scan_discs(const BigVector<HotDisc>& hot, const Grid& grid, const Vec2& gravity, int i, int c,
                        const Vec2& shift, const Vec2& r, const Vec2& v, double radius, double t0, Scheduled& s) {
   const int* items = cell_discs(grid, c);
   const int count = cell_disc_count(grid, c);
-  for (int k = 0; k < count; ++k) test_pair<kGravity>(hot, gravity, i, items[k], shift, r, v, radius, t0, s);
+  for (int k = 0; k < count; ++k) test_pair<kGravity, kSleepers>(hot, gravity, i, items[k], shift, r, v, radius, t0, s);
 }
 
 // The same pair tests against a list of discs (no periodic shift).
-template <bool kGravity>
+template <bool kGravity, bool kSleepers>
 inline void scan_list(const BigVector<HotDisc>& hot, const Vec2& gravity, int i, const int* list, int count,
                       const Vec2& r, const Vec2& v, double radius, double t0, Scheduled& s) {
   const Vec2 none = Vec2::Zero();
-  for (int k = 0; k < count; ++k) test_pair<kGravity>(hot, gravity, i, list[k], none, r, v, radius, t0, s);
+  for (int k = 0; k < count; ++k) test_pair<kGravity, kSleepers>(hot, gravity, i, list[k], none, r, v, radius, t0, s);
 }
 
 }  // namespace
@@ -204,19 +218,23 @@ void Simulation::Engine::scan_cell(int i, int cx, int cy, const Vec2& r, const V
     cy = cy < 0 ? cy + grid.ny : cy - grid.ny;
   }
   const int c = cx + grid.nx * cy;
-  if (has_gravity) {
-    scan_discs<true>(hot, grid, gravity, i, c, shift, r, v, hot[i].radius, now, s);
+  if (sleeping > 0) {
+    scan_discs<true, true>(hot, grid, gravity, i, c, shift, r, v, hot[i].radius, now, s);
+  } else if (has_gravity) {
+    scan_discs<true, false>(hot, grid, gravity, i, c, shift, r, v, hot[i].radius, now, s);
   } else {
-    scan_discs<false>(hot, grid, gravity, i, c, shift, r, v, hot[i].radius, now, s);
+    scan_discs<false, false>(hot, grid, gravity, i, c, shift, r, v, hot[i].radius, now, s);
   }
 }
 
 // Pair tests of disc i (at r, v, time now) against a gathered list of discs (no image shifts).
 void Simulation::Engine::scan_listed(int i, const int* list, int m, const Vec2& r, const Vec2& v, Scheduled& s) const {
-  if (has_gravity) {
-    scan_list<true>(hot, gravity, i, list, m, r, v, hot[i].radius, now, s);
+  if (sleeping > 0) {
+    scan_list<true, true>(hot, gravity, i, list, m, r, v, hot[i].radius, now, s);
+  } else if (has_gravity) {
+    scan_list<true, false>(hot, gravity, i, list, m, r, v, hot[i].radius, now, s);
   } else {
-    scan_list<false>(hot, gravity, i, list, m, r, v, hot[i].radius, now, s);
+    scan_list<false, false>(hot, gravity, i, list, m, r, v, hot[i].radius, now, s);
   }
 }
 
@@ -404,6 +422,11 @@ void Simulation::Engine::predict_gathered(int i, const int* list, int m) {
   Scheduled& s = scheduled[i];
   s.contact_time = kNever;
   s.partner = kNoPartner;
+  if (asleep(d)) {  // (no events until woken)
+    s.crossing_time = kNever;
+    if (prepared) schedule(i);
+    return;
+  }
   const Vec2 r = d.position;
   const Vec2 v = d.velocity;
   if (m >= 0) {
@@ -471,11 +494,8 @@ void Simulation::Engine::collide_pair(int i, int j) {
   HotDisc& b = hot[j];
   advance_disc(a, now);
   advance_disc(b, now);
-  Vec2 dr = b.position - a.position;  // from i to j
-  if (periodic) {
-    dr.x() -= period.x() * std::round(dr.x() / period.x());
-    dr.y() -= period.y() * std::round(dr.y() / period.y());
-  }
+  const Vec2 dr = minimum_image(b.position - a.position);  // from i to j
+  const double speed_i = a.velocity.norm(), speed_j = b.velocity.norm();
   Vec2 q;
   if (smooth_elastic) {
     q = collide_smooth_elastic(dr, a.velocity, a.inverse_mass, b.velocity, b.inverse_mass);
@@ -484,18 +504,36 @@ void Simulation::Engine::collide_pair(int i, int j) {
     ColdDisc& cb = cold[j];
     const Vec2 sigma = dr.normalized();
     ContactBody bi{a.velocity, ca.spin, a.inverse_mass, ca.inverse_inertia, a.radius};
-    ContactBody bj{b.velocity, cb.spin, b.inverse_mass, cb.inverse_inertia, b.radius};
+    ContactBody bj{b.velocity, cb.spin, b.inverse_mass, asleep(b) ? 0.0 : cb.inverse_inertia, b.radius};
     const double approach = (a.velocity - b.velocity).dot(sigma);
-    q = collide(sigma, bi, bj, restitution_of(approach, ca.last_collision, cb.last_collision));
+    // A sleeping disc is met like a wall (see restitution_of).
+    const bool fixed = asleep(b);
+    q = collide(sigma, bi, bj,
+                fixed ? restitution_of(approach, ca.last_collision, -kNever)
+                      : restitution_of(approach, ca.last_disc_collision, cb.last_disc_collision));
     a.velocity = bi.velocity;
     b.velocity = bj.velocity;
     ca.spin = bi.spin;
     cb.spin = bj.spin;
-    ca.last_collision = cb.last_collision = now;
+    ca.last_collision = now;
+    if (!fixed) ca.last_disc_collision = cb.last_collision = cb.last_disc_collision = now;
   }
   totals.virial += -dr.dot(q);  // r_ij . dp_i with r_ij = r_i - r_j = -dr
   ++a.counter;
   ++b.counter;
+  if (sleep_speed > 0) {
+    note_speed(i, speed_i);
+    if (!asleep(b)) note_speed(j, speed_j);
+  }
+}
+
+// The shortest of the vectors equal to dr up to whole periods (dr itself without a period).
+Vec2 Simulation::Engine::minimum_image(Vec2 dr) const {
+  if (periodic) {
+    dr.x() -= period.x() * std::round(dr.x() / period.x());
+    dr.y() -= period.y() * std::round(dr.y() / period.y());
+  }
+  return dr;
 }
 
 void Simulation::Engine::collide_wall(int i, int w) {
@@ -508,7 +546,7 @@ void Simulation::Engine::collide_wall(int i, int w) {
   // there could otherwise never get clear: each collision would find it inside again, moving in.
   if (has_gravity) {
     const double distance = normal.norm();
-    const double reach = wall.kind == WallKind::Circle ? wall.radius - d.radius : d.radius;
+    const double reach = wall.kind == WallKind::Circle ? wall.radius - fixed_reach(d.radius) : fixed_reach(d.radius);
     if (wall.kind == WallKind::Circle && distance > reach) {
       d.position += ((reach - distance) / distance) * normal;  // (normal points outwards here)
     } else if (wall.kind != WallKind::Circle && distance < reach && distance > 0) {
@@ -516,6 +554,7 @@ void Simulation::Engine::collide_wall(int i, int w) {
     }
   }
   ColdDisc& c = cold[i];
+  const double speed_before = d.velocity.norm();
   Vec2 q;
   if (smooth_elastic) {
     // Mirror reflection v' = v - 2 (v.n) n / (n.n), unnormalised n as in collide_smooth_elastic.
@@ -533,13 +572,17 @@ void Simulation::Engine::collide_wall(int i, int w) {
   }
   totals.wall_momentum += q.norm();
   ++d.counter;
+  if (sleep_speed > 0) note_speed(i, speed_before);
 }
 
 // The restitution of one collision, whose contact points approach at `approach_speed` along the
-// normal, between bodies whose previous collisions were at last_i and last_j: the one set, unless
-// the granular model makes the collision elastic (Simulation::set_contact_duration and
-// set_elastic_impact_speed). Elastic means no dissipation at all, tangential included, so the
-// model can only take dissipation away, never add energy.
+// normal: the one set, unless the granular model makes the collision elastic
+// (Simulation::set_contact_duration and set_elastic_impact_speed). Elastic means no dissipation
+// at all, tangential included, so the model can only take dissipation away, never add energy.
+// last_i, last_j: for two moving discs, the times of their previous collisions with moving discs;
+// for a disc meeting something fixed (a wall, a sleeping disc), the time of its previous
+// collision of any kind, and -infinity. So a disc resting on a floor, whose hops there are always
+// recent, keeps that contact elastic without making elastic the hits of a disc bouncing on it.
 Restitution Simulation::Engine::restitution_of(double approach_speed, double last_i, double last_j) const {
   const bool recent = now - std::max(last_i, last_j) < contact_duration;
   if (!recent && !(approach_speed < elastic_impact_speed)) return restitution;
@@ -571,7 +614,9 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
   const double start = now;
   const double end = now + max_duration;
   // Events at one instant are normal in small numbers (corners, three discs touching); this many
-  // means the dynamics cannot go on (resting contact under gravity, inelastic collapse).
+  // means the dynamics cannot go on (resting contact under gravity, inelastic collapse). "One
+  // instant" is a relative 1e-10 of the time: a collapse can also crawl on by a rounding step per
+  // event.
   const std::int64_t stuck_limit = 1000 + 20 * static_cast<std::int64_t>(hot.size());
   const std::int64_t crossing_limit = 1000000 + 1000 * static_cast<std::int64_t>(hot.size());
   std::int64_t crossings_in_a_row = 0;
@@ -582,12 +627,12 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
       break;
     }
     // (Checked before the pop, so that a stop leaves every disc's event in the queue.)
-    if (top.time == instant) {
+    if (top.time <= instant + kInstant * std::abs(instant)) {
       if (++events_at_instant > stuck_limit) {
         result.stuck = true;
         result.stuck_reason = describe("stuck at time ", now, ": more than ", stuck_limit,
-                                       " events at that instant (discs resting on each other or on a wall under "
-                                       "gravity, or an inelastic collapse); the state is valid");
+                                       " events at that instant (within ", kInstant, " of the time; discs resting on "
+                                       "each other or on a wall under gravity, or an inelastic collapse); the state is valid");
         break;
       }
     } else {
@@ -643,15 +688,21 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
         predict_full(i);
         continue;
       }
+      if (asleep(hot[j]) && hit_wakes(i, j)) wake(j);
       collide_and_predict(i, j);
       if (logging) record(EventKind::DiscDisc, i, j, kNoWall);
       ++result.disc_collisions;
+      if (sleep_speed > 0) {
+        try_to_sleep(i);
+        try_to_sleep(j);
+      }
     } else {
       const int w = s.wall;
       collide_wall(i, w);
       if (logging) record(EventKind::DiscWall, i, kWall, w);
       predict_full(i);
       ++result.wall_collisions;
+      if (sleep_speed > 0) try_to_sleep(i);
     }
     ++result.collisions;
     if (validate_every_event | check_event_discs) {  // (one test per event when neither is on)
@@ -742,28 +793,18 @@ std::string Simulation::Engine::disc_problem(int i, double tolerance, const Vec2
     return describe("disc ", i, " at (", ri.x(), ", ", ri.y(), ") is not in its cell ", cell_i);
   }
   // No overlap with the discs of the neighbouring cells.
-  for (int dy = -1; dy <= 1; ++dy) {
-    for (int dx = -1; dx <= 1; ++dx) {
-      int x = d.cx + dx, y = d.cy + dy;
-      Vec2 shift = Vec2::Zero();
-      if (x < 0 || x >= grid.nx || y < 0 || y >= grid.ny) {
-        if (!grid.periodic) continue;
-        if (x < 0) { x += grid.nx; shift.x() = -period.x(); }
-        if (x >= grid.nx) { x -= grid.nx; shift.x() = period.x(); }
-        if (y < 0) { y += grid.ny; shift.y() = -period.y(); }
-        if (y >= grid.ny) { y -= grid.ny; shift.y() = period.y(); }
-      }
-      const int cell = x + grid.nx * y;
-      for (int k = 0; k < cell_disc_count(grid, cell); ++k) {
-        const int j = cell_discs(grid, cell)[k];
-        if (positions ? j <= i : j == i) continue;
-        const double distance = (ri - at(j) - shift).norm();
-        const double contact = d.radius + hot[j].radius;
-        if (distance < contact - tolerance * std::min(d.radius, hot[j].radius)) {
-          return describe("discs ", i, " and ", j, " overlap: distance ", distance, " < ", contact, " at time ", now);
-        }
-      }
+  std::string overlap;
+  for_each_near(i, [&](int j, const Vec2& shift) {
+    if (!overlap.empty() || (positions ? j <= i : j == i)) return;
+    const double distance = (ri - at(j) - shift).norm();
+    const double contact = d.radius + hot[j].radius;
+    if (distance < contact - tolerance * std::min(d.radius, hot[j].radius)) {
+      overlap = describe("discs ", i, " and ", j, " overlap: distance ", distance, " < ", contact, " at time ", now);
     }
+  });
+  if (!overlap.empty()) return overlap;
+  if (asleep(d) && !(d.velocity == Vec2::Zero() && cold[i].spin == 0)) {
+    return describe("disc ", i, " is asleep but moves: velocity (", d.velocity.x(), ", ", d.velocity.y(), "), spin ", cold[i].spin);
   }
   // The next event lies in the future.
   const Scheduled& s = scheduled[i];
@@ -787,6 +828,8 @@ std::string Simulation::Engine::check(double tolerance) const {
   }
   // Heap order, and an entry for every disc's next event.
   if (!queue.valid()) return "event queue out of order, or a disc's next event missing from it";
+  const auto asleep_now = std::count_if(hot.begin(), hot.end(), [](const HotDisc& d) { return asleep(d); });
+  if (asleep_now != sleeping) return describe(asleep_now, " discs asleep, but ", sleeping, " counted");
   return "";
 }
 

@@ -35,20 +35,25 @@ struct HotDisc {
   Vec2 velocity;          // 16: velocity at `time`
   double time;            //  8: time of the last update
   double radius;          //  8
-  double inverse_mass;    //  8
+  double inverse_mass;    //  8: 0 while the disc sleeps (an immovable body, see sleep.cpp)
   int counter;            //  4: collisions so far; events remember it to detect staleness
   std::uint16_t cx;       //  2: column and row of the cell holding the centre (its index is
   std::uint16_t cy;       //  2: cx + nx cy; grids have at most 65535 cells per side)
 };
 
-// Cold state: 40 bytes, touched only at wall, rough and inelastic collisions and by the state
-// accessors.
+// Cold state: 64 bytes, touched only at wall, rough and inelastic collisions, by sleeping and by
+// the state accessors.
 struct ColdDisc {
   double mass;
   double inertia;
   double inverse_inertia;
   double spin;
-  double last_collision;  // time of the disc's previous collision (-infinity: none), for the TC model
+  // Times of the disc's previous collision, and of its previous collision with another moving
+  // disc (-infinity: none), for the TC model (see restitution_of).
+  double last_collision;
+  double last_disc_collision;
+  double slow_since;      // slower than the sleep speed ever since (kNever: not now)
+  double next_sleep_try;  // no attempt to put it to sleep before then (see try_to_sleep)
 };
 
 // What a disc expects next: its earliest contact (disc or wall) as found when predicted, and the
@@ -95,8 +100,11 @@ struct Simulation::Engine {
   // the values in use, chosen at the first advance.
   std::optional<double> contact_duration_setting;
   std::optional<double> elastic_impact_speed_setting;
+  std::optional<double> sleep_speed_setting;
   double contact_duration = 0.0;
   double elastic_impact_speed = 0.0;
+  double resting_speed = 0.0;  // sqrt(2 |g| kRestingBounce mean radii): the automatic speeds
+  double sleep_speed = 0.0;    // 0: discs never sleep
   double cell_size = 0.0;  // 0: automatic
 
   // ---- discs ----
@@ -113,8 +121,9 @@ struct Simulation::Engine {
   Simulation::Prefetch prefetch_mode = Simulation::Prefetch::Automatic;
   bool prefetch_ahead = false;
   double now = 0.0;
-  // The time of the last event and how many events came at it, counted across advance() calls
-  // (so that a loop of short calls stops stuck where one long call would).
+  // The time of the first event of the latest instant and how many events came in it (see
+  // advance), counted across advance() calls (so that a loop of short calls stops stuck where one
+  // long call would).
   double instant = 0.0;
   std::int64_t events_at_instant = 0;
   Grid grid;
@@ -124,6 +133,9 @@ struct Simulation::Engine {
   State initial;
   bool logging = false;
   std::vector<EventRecord> log;
+  int sleeping = 0;                // discs asleep now
+  std::vector<int> island, woken;          // scratch of try_to_sleep and wake
+  std::vector<unsigned char> in_island;    // scratch of try_to_sleep: 1 for its members
   bool validate_every_event = false;
   bool check_event_discs = false;
   std::string problem;
@@ -147,7 +159,24 @@ struct Simulation::Engine {
   void collide_pair(int i, int j);
   void collide_wall(int i, int wall);
   Restitution restitution_of(double approach_speed, double last_i, double last_j) const;
+  Vec2 minimum_image(Vec2 dr) const;
+  // Under gravity, the distance from a disc's centre at which it meets fixed things (see
+  // Simulation::kFixedContactSlack).
+  double fixed_reach(double radius) const { return has_gravity ? radius * (1 - kFixedContactSlack) : radius; }
+  // Sleeping discs (sleep.cpp).
+  static bool asleep(const HotDisc& d) { return d.inverse_mass == 0; }
+  double sleep_time() const;
+  double island_gap(double radius) const;
+  void note_speed(int i, double speed_before);
+  void try_to_sleep(int i);
+  bool hit_wakes(int i, int j) const;
+  void wake(int j);
+  void wake_all();
+  void predict_around(const std::vector<int>& discs);
+  template <typename Visit>
+  void for_each_near(int i, Visit visit) const;
   void choose_granular_model();
+  void choose_speeds();
   double wall_time(const Wall& wall, const Vec2& r, const Vec2& v, double radius) const;
   void scan_cell(int i, int cx, int cy, const Vec2& r, const Vec2& v, Scheduled& s) const;
   void scan_listed(int i, const int* list, int m, const Vec2& r, const Vec2& v, Scheduled& s) const;
@@ -168,5 +197,28 @@ struct Simulation::Engine {
 };
 
 inline void ScheduledKeys::prefetch(int i, int tag) const { engine->prefetch_event(i, tag); }
+
+// Calls visit(j, shift) for every disc j in the 3 x 3 cells around disc i's cell (i included),
+// where j's position plus `shift` is its periodic image nearest to those cells.
+template <typename Visit>
+void Simulation::Engine::for_each_near(int i, Visit visit) const {
+  const HotDisc& d = hot[i];
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      int x = d.cx + dx, y = d.cy + dy;
+      Vec2 shift = Vec2::Zero();
+      if (x < 0 || x >= grid.nx || y < 0 || y >= grid.ny) {
+        if (!grid.periodic) continue;
+        if (x < 0) { x += grid.nx; shift.x() = -period.x(); }
+        if (x >= grid.nx) { x -= grid.nx; shift.x() = period.x(); }
+        if (y < 0) { y += grid.ny; shift.y() = -period.y(); }
+        if (y >= grid.ny) { y -= grid.ny; shift.y() = period.y(); }
+      }
+      const int cell = x + grid.nx * y;
+      const int* items = cell_discs(grid, cell);
+      for (int k = 0, count = cell_disc_count(grid, cell); k < count; ++k) visit(items[k], shift);
+    }
+  }
+}
 
 }  // namespace billiard

@@ -13,6 +13,7 @@ Replay::Replay(const Simulation& simulation)
     : simulation_(&simulation),
       last_(simulation.initial_state()),
       since_(Eigen::VectorXd::Constant(last_.positions.rows(), last_.time)),
+      asleep_(static_cast<std::size_t>(last_.positions.rows()), false),
       time_(last_.time),
       gravity_(simulation.gravity()),
       period_(simulation.period()) {}
@@ -25,6 +26,8 @@ void Replay::apply(std::size_t k) {
   last_.velocities.row(e.disc) = e.velocity.transpose();
   last_.spins[e.disc] = e.spin;
   since_[e.disc] = e.time;
+  if (e.kind == EventKind::Sleep) asleep_[e.disc] = true;
+  if (e.kind == EventKind::Wake) asleep_[e.disc] = false;
   if (e.other >= 0) {
     last_.positions.row(e.other) = e.other_position.transpose();
     last_.velocities.row(e.other) = e.other_velocity.transpose();
@@ -33,12 +36,13 @@ void Replay::apply(std::size_t k) {
   }
 }
 
-// Every disc moved from its last record to time t (free flight under gravity; wrapped into
-// the periodic box if there is one).
+// Every disc moved from its last record to time t (free flight under gravity, sleeping discs
+// stay; wrapped into the periodic box if there is one).
 State Replay::state_at(double t) const {
   State state = last_;
   state.time = t;
   for (Eigen::Index i = 0; i < state.positions.rows(); ++i) {
+    if (asleep_[static_cast<std::size_t>(i)]) continue;
     const double dt = t - since_[i];
     Vec2 r = last_.positions.row(i).transpose();
     const Vec2 v = last_.velocities.row(i).transpose();

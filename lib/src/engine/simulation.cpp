@@ -193,6 +193,9 @@ void Simulation::Engine::add_checked_disc(const Disc& disc) {
   c.inverse_inertia = 1.0 / c.inertia;
   c.spin = disc.spin;
   c.last_collision = -kNever;
+  c.last_disc_collision = -kNever;
+  c.slow_since = kNever;
+  c.next_sleep_try = -kNever;
   cold.push_back(c);
   scheduled.push_back(Scheduled{kNever, kNever, kNoPartner, 0, kNoWall, 0});
   const int i = static_cast<int>(hot.size()) - 1;
@@ -362,6 +365,7 @@ void Simulation::set_restitution(double normal, double tangential) {
   Engine& e = *engine_;
   e.restitution = Restitution{normal, tangential};
   e.smooth_elastic = normal == 1 && tangential == -1;
+  if (e.prepared) e.choose_speeds();  // (the automatic sleep speed depends on the restitution)
 }
 
 namespace {
@@ -385,6 +389,12 @@ void Simulation::set_elastic_impact_speed(std::optional<double> speed) {
   if (engine_->prepared) engine_->choose_granular_model();
 }
 
+void Simulation::set_sleep_speed(std::optional<double> speed) {
+  check_granular("set_sleep_speed", "speed", speed);
+  engine_->sleep_speed_setting = speed;
+  if (engine_->prepared) engine_->choose_speeds();
+}
+
 // The automatic values are scaled by the discs (mean radius, rms speed now) and gravity.
 void Simulation::Engine::choose_granular_model() {
   double radius = 0, squared_speed = 0;
@@ -403,7 +413,17 @@ void Simulation::Engine::choose_granular_model() {
   double duration = squared_speed > 0 ? 1e-4 * radius / std::sqrt(squared_speed) : 0.0;
   if (g > 0) duration = std::max(duration, 1e-2 * std::sqrt(radius / g));
   contact_duration = contact_duration_setting.value_or(duration);
-  elastic_impact_speed = elastic_impact_speed_setting.value_or(std::sqrt(2 * g * kRestingBounce * radius));
+  resting_speed = std::sqrt(2 * g * kRestingBounce * radius);
+  choose_speeds();
+}
+
+// The speeds of the granular model from resting_speed (automatic) or as set. Discs sleep only
+// under gravity (nothing else can hold them up), by default only when collisions dissipate.
+void Simulation::Engine::choose_speeds() {
+  sleep_speed = sleep_speed_setting.value_or(restitution.normal < 1 ? resting_speed : 0.0);
+  if (!has_gravity) sleep_speed = 0;
+  elastic_impact_speed = elastic_impact_speed_setting.value_or(sleep_speed > 0 ? 0.0 : resting_speed);
+  if (sleep_speed == 0 && sleeping > 0) wake_all();
 }
 
 void Simulation::set_cell_size(double size) {
@@ -660,6 +680,14 @@ Vec2 Simulation::gravity() const { return engine_->gravity; }
 Restitution Simulation::restitution() const { return engine_->restitution; }
 double Simulation::contact_duration() const { return engine_->contact_duration; }
 double Simulation::elastic_impact_speed() const { return engine_->elastic_impact_speed; }
+double Simulation::sleep_speed() const { return engine_->sleep_speed; }
+std::vector<int> Simulation::sleeping_discs() const {
+  std::vector<int> found;
+  for (int i = 0, n = size(); i < n; ++i) {
+    if (Engine::asleep(engine_->hot[i])) found.push_back(i);
+  }
+  return found;
+}
 bool Simulation::periodic() const { return engine_->periodic; }
 Vec2 Simulation::period() const { return engine_->periodic ? engine_->period : Vec2::Zero(); }
 double Simulation::table_radius() const { return engine_->has_table ? engine_->table_radius : 0.0; }
