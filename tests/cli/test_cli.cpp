@@ -68,6 +68,24 @@ class Cli : public ::testing::Test {
   fs::path folder_;
 };
 
+// In the student's build, a test of a whole run waits for the tasks that run needs: while one of
+// them is not written yet, the test is skipped with that task's own message (one line, instead
+// of a failure that says nothing new). The reference solutions' build never skips.
+std::string missing_task(const cli::Run& result) {
+#ifdef BILLIARD_SKIP_WHILE_TASKS_MISSING
+  const std::regex stub(R"(task \d \(\w+\) is not implemented yet[^\n]*)");
+  std::smatch match;
+  if (result.status == 1 && (std::regex_search(result.out, match, stub) || std::regex_search(result.err, match, stub))) {
+    return "skipped: " + match.str();
+  }
+#else
+  (void)result;
+#endif
+  return "";
+}
+#define SKIP_WHILE_A_TASK_IS_MISSING(result) \
+  if (const std::string missing = missing_task(result); !missing.empty()) GTEST_SKIP() << missing
+
 double number_after(const std::string& text, const std::string& label) {
   std::smatch match;
   const std::regex pattern(label + R"(\s*([-+0-9.eE]+))");
@@ -77,6 +95,7 @@ double number_after(const std::string& text, const std::string& label) {
 
 TEST_F(Cli, DefaultTableRunsAllSixTasksAndWritesBothPictures) {
   const Result result = run(BILLIARD_EXE, "10 1 10");
+  SKIP_WHILE_A_TASK_IS_MISSING(result);
   ASSERT_EQ(result.status, 0) << result.out << result.err;
   EXPECT_EQ(result.err, "");
   for (const char* task : {"task 1", "task 2", "task 3", "task 4", "task 5", "task 6"}) {
@@ -94,6 +113,7 @@ TEST_F(Cli, DefaultTableRunsAllSixTasksAndWritesBothPictures) {
 TEST_F(Cli, ReportsEnergyDriftBelowRoundingLevel) {
   // 10,100 collisions of exact event-driven dynamics: rounding only, far below 1e-10.
   const Result result = run(BILLIARD_EXE, "10 1 10 --seed 7");
+  SKIP_WHILE_A_TASK_IS_MISSING(result);
   ASSERT_EQ(result.status, 0) << result.out << result.err;
   const double drift = number_after(result.out, "relative drift");
   EXPECT_GE(drift, 0) << result.out;
@@ -105,6 +125,7 @@ TEST_F(Cli, ReportsEnergyDriftBelowRoundingLevel) {
 
 TEST_F(Cli, SameSeedSameReportDifferentSeedDifferentTable) {
   const Result first = run(BILLIARD_EXE, "10 1 10 --seed 3 --output a");
+  SKIP_WHILE_A_TASK_IS_MISSING(first);
   const Result again = run(BILLIARD_EXE, "10 1 10 --seed 3 --output b");
   const Result other = run(BILLIARD_EXE, "10 1 10 --seed 4 --output c");
   ASSERT_EQ(first.status, 0);
@@ -114,6 +135,7 @@ TEST_F(Cli, SameSeedSameReportDifferentSeedDifferentTable) {
 
 TEST_F(Cli, OptionsChooseOutputFolderAndMovieLength) {
   const Result result = run(BILLIARD_EXE, "8 0.5 20 --collisions=7 --drift-collisions 10 --output pictures/run1");
+  SKIP_WHILE_A_TASK_IS_MISSING(result);
   ASSERT_EQ(result.status, 0) << result.out << result.err;
   const std::string movie = slurp(folder_ / "work/pictures/run1/movie.svg");
   // 7 collisions: 8 key frames, so 7 semicolons in each values list.
@@ -132,7 +154,12 @@ TEST_F(Cli, HelpExplainsUsageAndExitsZero) {
   EXPECT_TRUE(result.files.empty());
 }
 
-TEST_F(Cli, TooManyCirclesForTheTableIsRefused) { expect_refused("10 1 1000", "cannot fit"); }
+TEST_F(Cli, TooManyCirclesForTheTableIsRefused) {
+  SKIP_WHILE_A_TASK_IS_MISSING(run(BILLIARD_EXE, "10 1 1000 --output probe"));
+  fs::remove_all(folder_ / "work");
+  fs::create_directories(folder_ / "work");
+  expect_refused("10 1 1000", "cannot fit");
+}
 TEST_F(Cli, NegativeRadiusIsRefused) { expect_refused("-1 1 10", "TABLE_RADIUS"); }
 TEST_F(Cli, WordInsteadOfNumberIsRefused) { expect_refused("ten 1 10", "TABLE_RADIUS"); }
 TEST_F(Cli, FractionalCountIsRefused) { expect_refused("10 1 2.5", "N"); }
@@ -188,6 +215,9 @@ TEST_F(Cli, NewlineInAnArgumentStaysOnOneLine) {
 }
 TEST_F(Cli, CirclesThatCannotFitLeaveNoOutputFolder) {
   // The output folder is created before task 1 runs; a refusal by task 1 removes it again.
+  SKIP_WHILE_A_TASK_IS_MISSING(run(BILLIARD_EXE, "10 1 1000 --output probe"));
+  fs::remove_all(folder_ / "work");
+  fs::create_directories(folder_ / "work");
   expect_refused("10 1 1000 --output new/pictures", "cannot fit");
 }
 
@@ -204,6 +234,7 @@ TEST_F(Cli, ExistingOutputFolderKeepsItsOtherFiles) {
   fs::create_directories(folder_ / "work/pictures");
   std::ofstream(folder_ / "work/pictures/notes.txt") << "mine";
   const Result result = run(BILLIARD_EXE, "10 1 3 --collisions 2 --drift-collisions 2 --output pictures");
+  SKIP_WHILE_A_TASK_IS_MISSING(result);
   ASSERT_EQ(result.status, 0) << result.out << result.err;
   EXPECT_EQ(result.files, (std::vector<std::string>{"pictures", "pictures/movie.svg", "pictures/notes.txt",
                                                     "pictures/table.svg"}));
@@ -212,6 +243,7 @@ TEST_F(Cli, ExistingOutputFolderKeepsItsOtherFiles) {
 
 TEST_F(Cli, RadiiAtTheirLimitsRun) {
   const Result result = run(BILLIARD_EXE, "1000 0.001 5 --collisions 3 --drift-collisions 3");
+  SKIP_WHILE_A_TASK_IS_MISSING(result);
   EXPECT_EQ(result.status, 0) << result.out << result.err;
   EXPECT_NE(slurp(folder_ / "work/billiard-output/movie.svg").find("</svg>"), std::string::npos);
 }
@@ -222,12 +254,14 @@ TEST_F(Cli, InterruptedRunLeavesNothingBehind) {
   limits.interrupt_after = 1;
   const Result result = run(BILLIARD_EXE, words("100 1 1000 --collisions 0 --drift-collisions 2000 --output a/b"),
                             limits);
+  SKIP_WHILE_A_TASK_IS_MISSING(result);
   EXPECT_EQ(result.signal, SIGINT) << "status " << result.status << "\n" << result.out << result.err;
   EXPECT_TRUE(result.files.empty()) << "left behind: " << result.files.front();
 }
 
 TEST_F(Cli, NoCirclesGivesStillPicturesAndNoError) {
   const Result result = run(BILLIARD_EXE, "10 1 0");
+  SKIP_WHILE_A_TASK_IS_MISSING(result);
   EXPECT_EQ(result.status, 0) << result.out << result.err;
   EXPECT_TRUE(fs::exists(folder_ / "work/billiard-output/table.svg"));
   EXPECT_TRUE(fs::exists(folder_ / "work/billiard-output/movie.svg"));

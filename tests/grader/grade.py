@@ -45,11 +45,9 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from progress import TASKS, TASK_FUNCTIONS, TASK_NUMBER, TaskProgress, next_step, task_name
+
 REPO = Path(__file__).resolve().parents[2]
-TASKS = ["init_billiard", "init_velocities", "visualize_table", "propagate", "movie", "kinetic_energy"]
-TASK_NUMBER = {task: number for number, task in enumerate(TASKS, start=1)}
-# What a student writes in each task's file, for hints.
-TASK_FUNCTIONS = {task: task for task in TASKS} | {"kinetic_energy": "kinetic_energy or correct_energy_drift"}
 HIDDEN_FEEDBACK = "This test is hidden: its details are not shown."
 FEEDBACK_CAP = 8 * 1024  # characters of feedback kept per test
 COMPILER_CAP = 6 * 1024  # characters of compiler output kept per task
@@ -294,6 +292,7 @@ def compile_submission(build, tasks, clocks):
             problems[task] = f"{task}.cpp was not submitted."
             continue
         limit = min(build.compile_timeout - clocks[task].spent_building, clocks[task].left)
+        print(f"grade: {task_name(task)}: compiling {task}.cpp", flush=True)
         started = time.monotonic()
         ok, output, timed_out = build.build([f"submission_{task}"], timeout=limit,
                                             memory_bytes=SUBMISSION_BUILD_MEMORY)
@@ -655,7 +654,7 @@ def print_table(results, verbose):
         failed = [test for test in result.tests if not test.passed and not test.not_run]
         not_run = [test for test in result.tests if test.not_run]
         if failed and len(failed) == len(result.tests) and all("not implemented yet" in t.feedback for t in failed):
-            print(f"      not implemented yet: write it in {result.task}.cpp (every test fails until then)")
+            print(f"      not implemented yet: write it in tasks/{result.task}.cpp (every test fails until then)")
             continue
         for test in failed:
             name = "a hidden test" if test.visibility == "hidden" else test.name
@@ -670,6 +669,15 @@ def print_table(results, verbose):
     total = sum(result.score for result in results)
     maximum = sum(result.maximum for result in results)
     print(f"\n    {'total':<{width}}{total:>3} / {maximum}")
+    print("\n" + "\n".join(next_step([task_progress(result) for result in results])))
+
+
+def task_progress(result):
+    """A task's result as progress.py sees it, for the "Next:" lines."""
+    progress = TaskProgress(result.task, problem=result.problem)
+    for test in result.tests:
+        progress.record(test.name, test.passed, test.feedback)
+    return progress
 
 
 def shown_feedback(test):
@@ -875,7 +883,9 @@ def grade(arguments):
     # Only the task files are taken from the submission, into a folder of the grader's own.
     staged, problems = stage_submission(arguments.submission, grading)
     build = Build(arguments.build, staged, arguments.dependencies, arguments.compile_timeout, arguments.build_timeout)
-    print(f"grade: building the graded suites ({'reference code for the other tasks' if arguments.dependencies == 'reference' else 'your code for every task'})",
+    print(f"grade: building the grader's own code and the graded suites in {arguments.build} (a minute or two the "
+          "first time, seconds after), with "
+          f"{'the reference code for the other tasks' if arguments.dependencies == 'reference' else 'your code for every task'}",
           flush=True)
     # A task file that was not submitted is a stub from the start (its task scores 0).
     stubbed = [task for task in TASKS if not (staged / f"{task}.cpp").is_file()]
@@ -913,6 +923,7 @@ def grade(arguments):
             continue
         build.executable(f"grade_{task}").unlink(missing_ok=True)
         limit = max(min(arguments.compile_timeout, clocks[task].left), MINIMUM_TEST_SECONDS)
+        print(f"grade: {task_name(task)}: linking its suite", flush=True)
         link_started = time.monotonic()
         ok, link_output, timed_out = build.build([f"grade_{task}"], timeout=limit,
                                                  memory_bytes=SUBMISSION_BUILD_MEMORY)
@@ -945,13 +956,18 @@ def grade(arguments):
     cache = ResultCache(arguments.cache, arguments.timeout) if arguments.cache else None
     if cache:
         jobs = [(test, executable) for test, executable in jobs if not cache.recall(test, executable)]
-    print(f"grade: running {len(jobs)} tests, each in its own process", flush=True)
+    print(f"grade: running {len(jobs)} tests, each in its own process, {arguments.jobs} at a time", flush=True)
     processes = Processes()
     try:
         with concurrent.futures.ThreadPoolExecutor(max_workers=arguments.jobs) as pool:
-            for future in [pool.submit(run_budgeted, test, executable, sandbox, scratch, processes,
-                                       clocks[test.task]) for test, executable in jobs]:
-                future.result()
+            running = {}  # task -> its tests' futures, in course order
+            for test, executable in jobs:
+                running.setdefault(test.task, []).append(
+                    pool.submit(run_budgeted, test, executable, sandbox, scratch, processes, clocks[test.task]))
+            for task, futures in running.items():
+                for future in futures:
+                    future.result()
+                print(f"grade: {task_name(task)}: {len(futures)} tests run", flush=True)
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
     if cache:

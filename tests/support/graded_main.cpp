@@ -11,6 +11,9 @@
 //                           check the untouched stubs: succeed only if every test failed, and
 //                           each with the stub's "not implemented yet" error (so no test can
 //                           pass without the student's code).
+//   --brief                 print only what failed, each failure as its message: a task that
+//                           is not written yet gives one line per test (CTest passes this, so
+//                           that a first run on the stubs reads as a list, not as pages).
 #include "support/graded.hpp"
 
 #include <gtest/gtest.h>
@@ -60,6 +63,37 @@ class StubChecker : public ::testing::EmptyTestEventListener {
   bool saw_stub_message_ = false;
   int tests_ = 0;
   std::vector<std::string> problems_;
+};
+
+// GoogleTest's printer without its banners. For each failing test: its first failure, from the
+// student's message (explain(): Expected / Your code / Hint) when it has one, else GoogleTest's
+// own; for the stubs' "not implemented yet" exception only that exception's one-line message;
+// then how many more checks failed the same way.
+class BriefPrinter : public ::testing::EmptyTestEventListener {
+ public:
+  void OnTestStart(const ::testing::TestInfo&) override { failures_ = 0; }
+
+  void OnTestPartResult(const ::testing::TestPartResult& result) override {
+    if (!result.failed() || failures_++ > 0) return;
+    const std::string message = result.message();
+    const std::string quoted = "C++ exception with description \"";
+    if (message.find(kStubMessage) != std::string::npos && message.rfind(quoted, 0) == 0) {
+      const auto end = message.find("\" thrown in");
+      std::cout << message.substr(quoted.size(), end == std::string::npos ? end : end - quoted.size()) << "\n";
+      return;
+    }
+    if (result.file_name() != nullptr) std::cout << result.file_name() << ":" << result.line_number() << ": ";
+    const auto got = message.find("\nYour code: ");
+    const auto students = got == std::string::npos ? got : message.rfind("\nExpected: ", got);
+    std::cout << "failed\n" << (students == std::string::npos ? message : message.substr(students + 1)) << "\n";
+  }
+
+  void OnTestEnd(const ::testing::TestInfo&) override {
+    if (failures_ > 1) std::cout << "(and " << failures_ - 1 << " more failed checks in this test)\n";
+  }
+
+ private:
+  int failures_ = 0;
 };
 
 // Prints the graded tests as JSON lines; false if a test of the binary has no points or a
@@ -113,6 +147,11 @@ int main(int argc, char** argv) {
     if (argument == "--expect-not-implemented") expect_not_implemented = true;
     if (argument == "--list-graded") list = true;
     if (argument.rfind("--graded-result=", 0) == 0) result_path = argument.substr(16);
+    if (argument == "--brief") {
+      auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
+      delete listeners.Release(listeners.default_result_printer());
+      listeners.Append(new BriefPrinter);  // owned by GoogleTest's listener list
+    }
   }
   if (list) return list_graded() ? 0 : 1;
   if (expect_not_implemented) {

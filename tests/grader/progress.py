@@ -1,0 +1,168 @@
+#!/usr/bin/python3
+"""The six course tasks, and where a student stands in them after a run of the tests.
+
+    /usr/bin/python3 tests/grader/progress.py JUNIT_XML
+
+reads the JUnit file of a CTest run (ctest --output-junit, as ./build.sh test writes it) and
+prints one short block: each task whose tests ran and how it stands, then what to do next (the
+first task that is not written or not passing, and the command that runs its tests). The grader
+(grade.py) ends its report with the same "Next:" lines. Exit status 0, or 2 for a missing or
+unreadable file.
+"""
+
+import re
+import sys
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+from pathlib import Path
+
+TASKS = ["init_billiard", "init_velocities", "visualize_table", "propagate", "movie", "kinetic_energy"]
+TASK_NUMBER = {task: number for number, task in enumerate(TASKS, start=1)}
+# What a student writes in each task's file, for hints.
+TASK_FUNCTIONS = {task: task for task in TASKS} | {"kinetic_energy": "kinetic_energy or correct_energy_drift"}
+# The course's error for a task that is not written yet (lib/src/course/not_implemented.cpp).
+NOT_WRITTEN = re.compile(r"task (\d) \(\w+\) is not implemented yet")
+# The lines of a graded test's message for students (tests/support/student_messages.hpp).
+STUDENT_MESSAGE = re.compile(r"(Expected|Your code|Hint): ")
+
+
+def task_name(task):
+    return f"task {TASK_NUMBER[task]} ({task})"
+
+
+def run_command(task):
+    return f"./build.sh test -L {task}"
+
+
+@dataclass
+class TaskProgress:
+    """One task's tests in one run: how many, which failed, and why."""
+    task: str
+    tests: int = 0
+    failing: list = field(default_factory=list)  # names of the failing tests, in the run's order
+    waits_for: set = field(default_factory=set)   # tasks a failure said are not implemented yet
+    other_failures: int = 0                       # failures for any other reason
+    problem: str = ""                             # grader only: why the suite could not be built
+    first_message: list = field(default_factory=list)  # Expected / Your code / Hint of the first failure
+
+    def record(self, name, passed, output):
+        self.tests += 1
+        if passed:
+            return
+        self.failing.append(name)
+        named = {TASKS[int(number) - 1] for number in NOT_WRITTEN.findall(output) if 1 <= int(number) <= len(TASKS)}
+        if named:
+            self.waits_for |= named
+            return
+        self.other_failures += 1
+        if self.other_failures == 1:
+            self.first_message = [line.strip() for line in output.splitlines()
+                                  if STUDENT_MESSAGE.match(line.strip())][:3]
+
+    @property
+    def passes(self):
+        return not self.problem and not self.failing and self.tests > 0
+
+    @property
+    def missing(self):
+        """The first task its failures wait for, when that is their only reason; else None."""
+        if self.problem or not self.failing or self.other_failures:
+            return None
+        return min(self.waits_for, key=TASK_NUMBER.get)
+
+    def state(self):
+        if self.problem:
+            return "does not build (see above)"
+        if self.passes:
+            return f"passes all {self.tests} tests" if self.tests > 1 else "passes its test"
+        if self.missing == self.task:
+            return "not written yet"
+        if self.missing:
+            return f"waits for {task_name(self.missing)}"
+        return f"{len(self.failing)} of {self.tests} tests fail"
+
+
+def next_step(progress, other_failing=(), waiting=0):
+    """The "Next:" lines: the first task (in course order) that is not done, and how to go on.
+    progress: TaskProgress of the tasks that ran; other_failing: names of failing tests that are
+    not a task's; waiting: how many other tests were skipped because a task is not written."""
+    for item in sorted(progress, key=lambda p: TASK_NUMBER[p.task]):
+        if item.passes:
+            continue
+        task = item.task
+        if item.problem:
+            first = f"Next: {task_name(task)} does not build: fix the first error above in tasks/{task}.cpp"
+        elif item.missing:
+            task = item.missing
+            first = f"Next: write {task_name(task)} in tasks/{task}.cpp"
+        else:
+            first = f"Next: {task_name(task)}, starting with its first failing test, {item.failing[0]}:"
+            details = [f"  {shortened(line)}" for line in item.first_message] or ["  (its message is above)"]
+            return [first, *details, f"  Fix tasks/{task}.cpp, then run: {run_command(task)}"]
+        return [first, f"  then run: {run_command(task)}"]
+    if other_failing:
+        return [f"Next: every task that ran passes, but {len(other_failing)} other test(s) fail; start with "
+                f"{other_failing[0]} (its message is above)",
+                f"  then run: ./build.sh test -R '{other_failing[0]}'"]
+    if len(progress) == len(TASKS):
+        return ["Next: nothing; every test passed. Well done."]
+    if waiting:
+        return [f"All tests that ran passed ({waiting} wait for tasks not written yet).",
+                "  Next: ./build.sh test shows where every task stands"]
+    return ["All tests that ran passed. Next: ./build.sh test shows where every task stands"]
+
+
+def shortened(line, limit=160):
+    return line if len(line) <= limit else line[:limit - 3] + "..."
+
+
+def task_of(test_name):
+    """The task whose graded suite a CTest test belongs to ("propagate.Propagate.X"), or None."""
+    prefix = test_name.split(".", 1)[0]
+    return prefix if prefix in TASK_NUMBER else None
+
+
+def from_ctest_junit(path):
+    """(progress per task, names of other failing tests, count of other skipped tests)."""
+    progress, other_failing, waiting = {}, [], 0
+    for case in ET.parse(path).getroot().iter("testcase"):
+        name = case.get("name", "")
+        status = case.get("status", "")
+        output = "".join(case.findtext(tag) or "" for tag in ("system-out", "system-err"))
+        skipped = status in ("notrun", "disabled") and case.find("skipped") is not None
+        task = task_of(name)
+        if task:
+            progress.setdefault(task, TaskProgress(task)).record(name, status == "run", output)
+        elif skipped:
+            waiting += 1
+        elif status != "run":
+            other_failing.append(name)
+    return list(progress.values()), other_failing, waiting
+
+
+def report(progress, other_failing, waiting):
+    """The block ./build.sh test ends with: at most 6 + 3 lines."""
+    lines = []
+    if progress:
+        width = max(len(task) for task in TASKS)
+        lines.append("Where the tasks stand:")
+        for item in sorted(progress, key=lambda p: TASK_NUMBER[p.task]):
+            lines.append(f"  {TASK_NUMBER[item.task]} {item.task:<{width}}  {item.state()}")
+    return lines + next_step(progress, other_failing, waiting)
+
+
+def main(argv):
+    if len(argv) != 1:
+        print("usage: progress.py JUNIT_XML", file=sys.stderr)
+        return 2
+    try:
+        found = from_ctest_junit(Path(argv[0]))
+    except (OSError, ET.ParseError) as error:
+        print(f"progress: cannot read the test results {argv[0]}: {error}", file=sys.stderr)
+        return 2
+    print("\n" + "\n".join(report(*found)))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

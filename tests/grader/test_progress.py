@@ -1,0 +1,94 @@
+#!/usr/bin/python3
+"""Tests of progress.py: the block that ends ./build.sh test (where the tasks stand, what next).
+
+    /usr/bin/python3 tests/grader/test_progress.py
+"""
+
+import sys
+import tempfile
+import unittest
+from pathlib import Path
+from xml.sax.saxutils import escape
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import progress  # noqa: E402
+
+STUB = ("task {n} ({task}) is not implemented yet: write it in tasks/{task}.cpp, then run its tests with: "
+        "./build.sh test -L {task}")
+
+
+def stub_message(task):
+    return STUB.format(n=progress.TASK_NUMBER[task], task=task)
+
+
+def junit(cases):
+    """A CTest-style JUnit file of (name, status, output) cases; status run, fail or skipped."""
+    rows = []
+    for name, status, output in cases:
+        inner = {"fail": '<failure message=""/>', "skipped": '<skipped message="SKIP_RETURN_CODE=77"/>'}.get(status, "")
+        rows.append(f'<testcase name="{name}" classname="{name}" time="0" '
+                    f'status="{"notrun" if status == "skipped" else status}">{inner}'
+                    f"<system-out>{escape(output)}</system-out></testcase>")
+    return '<?xml version="1.0" encoding="UTF-8"?>\n<testsuite name="x">' + "".join(rows) + "</testsuite>\n"
+
+
+def block(cases):
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "results.xml"
+        path.write_text(junit(cases))
+        return progress.report(*progress.from_ctest_junit(path))
+
+
+class Report(unittest.TestCase):
+    def test_stubs_point_to_task_one_in_at_most_ten_lines(self):
+        cases = [(f"{task}.Suite.Test{k}", "fail", stub_message(task)) for task in progress.TASKS for k in range(3)]
+        # task 6's second function has its own name in the message, but the same task number
+        cases.append(("kinetic_energy.Drift.Test", "fail", stub_message("kinetic_energy").replace(
+            "(kinetic_energy)", "(correct_energy_drift)")))
+        cases += [("cli.Cli.Run", "skipped", "skipped: " + stub_message("init_billiard")),
+                  ("notebooks.01_tour", "skipped", "01_tour.ipynb: skipped: " + stub_message("init_billiard"))]
+        lines = block(cases)
+        self.assertLessEqual(len(lines), 10, "\n".join(lines))
+        for task in progress.TASKS:
+            self.assertTrue(any(task in line and "not written yet" in line for line in lines), "\n".join(lines))
+        self.assertEqual(lines[-2], "Next: write task 1 (init_billiard) in tasks/init_billiard.cpp")
+        self.assertEqual(lines[-1], "  then run: ./build.sh test -L init_billiard")
+
+    def test_a_real_failure_leads_with_its_message(self):
+        message = "file.cpp:12: failed\nExpected: 3 rows\nYour code: 2 rows\nHint: one row per circle\n"
+        cases = [("init_billiard.A.Passes", "run", ""), ("init_billiard.A.Fails", "fail", message),
+                 ("init_billiard.A.AlsoFails", "fail", "Expected: x\nYour code: y\nHint: z\n"),
+                 ("init_velocities.B.X", "fail", stub_message("init_velocities"))]
+        lines = block(cases)
+        self.assertIn("  1 init_billiard    2 of 3 tests fail", lines)
+        self.assertIn("  2 init_velocities  not written yet", lines)
+        next_at = lines.index(next(line for line in lines if line.startswith("Next:")))
+        self.assertIn("init_billiard.A.Fails", lines[next_at])
+        self.assertEqual(lines[next_at + 1:], ["  Expected: 3 rows", "  Your code: 2 rows", "  Hint: one row per circle",
+                                               "  Fix tasks/init_billiard.cpp, then run: ./build.sh test -L init_billiard"])
+
+    def test_a_task_waiting_for_an_earlier_one_points_to_that_one(self):
+        lines = block([("movie.M.X", "fail", stub_message("propagate"))])
+        self.assertIn("  5 movie            waits for task 4 (propagate)", lines)
+        self.assertEqual(lines[-2], "Next: write task 4 (propagate) in tasks/propagate.cpp")
+
+    def test_passing_tasks_then_other_failures(self):
+        lines = block([("propagate.P.X", "run", ""), ("notebooks.02_energy_drift", "fail", "Traceback ...")])
+        self.assertIn("  4 propagate        passes its test", lines)
+        self.assertIn("notebooks.02_energy_drift", lines[-2])
+        self.assertEqual(lines[-1], "  then run: ./build.sh test -R 'notebooks.02_energy_drift'")
+
+    def test_everything_passing(self):
+        lines = block([(f"{task}.S.X", "run", "") for task in progress.TASKS] + [("engine.E.X", "run", "")])
+        self.assertEqual(lines[-1], "Next: nothing; every test passed. Well done.")
+        partial = block([("kinetic_energy.S.X", "run", ""), ("kinetic_energy.S.Y", "run", "")])
+        self.assertIn("  6 kinetic_energy   passes all 2 tests", partial)
+        self.assertIn("./build.sh test shows where every task stands", partial[-1])
+
+    def test_unreadable_results_exit_2(self):
+        self.assertEqual(progress.main(["/nonexistent/results.xml"]), 2)
+        self.assertEqual(progress.main([]), 2)
+
+
+if __name__ == "__main__":
+    unittest.main()
