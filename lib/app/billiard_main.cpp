@@ -6,7 +6,8 @@
 // It places N circles (task 1), gives them velocities (task 2), draws the table (task 3),
 // records a movie of K collisions (tasks 4 and 5), runs M more collisions and reports how
 // well the mean squared velocity was conserved, before and after the correction (task 6).
-// Built from a student's tasks/, it says which tasks are still missing and runs the others.
+// Built from a student's tasks/, it runs what it can, reports the tasks in order, and says which
+// are missing and which wait for them.
 //
 // Exit status: 0 all done; 1 some task is not implemented yet or failed; 2 bad input (one
 // line on stderr, nothing written).
@@ -352,21 +353,51 @@ std::string format(double value, int precision = 6) {
   return out.str();
 }
 
-struct Report {
-  std::vector<std::string> missing;  // tasks not implemented yet, or failing
-  void task_failed(const std::exception& error) {
-    std::cout << "      !! " << error.what() << "\n";
-    missing.push_back(error.what());
+// What each task did, printed in task order at the end (the movie, task 5, runs before the
+// further collisions of task 4). A task that cannot run because an earlier one is missing
+// says which one it waits for.
+class Report {
+ public:
+  void done(int task, const std::string& text) { lines_[index(task)].push_back(text); }
+  void failed(int task, const std::exception& error) {
+    lines_[index(task)].push_back("!! " + printable(error.what()));
+    if (first_failed_ == 0 || task < first_failed_) first_failed_ = task;
   }
-  // Moves the files into place, says what was written and what is missing; the exit status.
+  void waits(int task, int for_task) {
+    if (lines_[index(task)].empty()) {
+      lines_[index(task)].push_back("waits for task " + std::to_string(for_task) + " (" + kNames[index(for_task)] + ")");
+    }
+  }
+  // Prints the tasks, moves the files into place and says what was written; the exit status.
   int finish(Staging& staging) const {
+    for (int task = 1; task <= 6; ++task) {
+      std::string label = "  task " + std::to_string(task) + " " + kNames[index(task)];
+      label.resize(27, ' ');
+      for (const auto& line : lines_[index(task)]) {
+        std::cout << label << line << "\n";
+        label.assign(27, ' ');
+      }
+    }
     for (const auto& file : staging.publish()) std::cout << "  wrote " << printable(file.string()) << "\n";
-    if (missing.empty()) return 0;
-    std::cout << "billiard: " << missing.size()
-              << " step(s) could not run; the lines marked !! above say which task to work on\n";
+    if (first_failed_ == 0) return 0;
+    std::cout << "billiard: the tasks marked !! need work; start with task " << first_failed_ << " ("
+              << kNames[index(first_failed_)] << ")\n";
     return 1;
   }
+
+ private:
+  static constexpr const char* kNames[6] = {"init_billiard", "init_velocities", "visualize_table",
+                                            "propagate",     "movie",           "kinetic_energy"};
+  static std::size_t index(int task) { return static_cast<std::size_t>(task - 1); }
+  std::vector<std::string> lines_[6];
+  int first_failed_ = 0;  // 0: none
 };
+
+// The task an error comes from: its own number for a stub's NotImplemented, else `task`.
+int task_of(const std::exception& error, int task) {
+  const auto* missing = dynamic_cast<const billiard::NotImplemented*>(&error);
+  return missing != nullptr ? missing->task_number() : task;
+}
 
 int run(const Options& options, Staging& staging) {
   using namespace billiard;
@@ -378,11 +409,11 @@ int run(const Options& options, Staging& staging) {
   // Task 1 first: an invalid_argument here means the circles cannot fit, which is bad input,
   // reported before anything is printed or written (the staging removes the folders it made).
   std::optional<Coordinates> coordinates;
-  std::optional<NotImplemented> init_missing;
   try {
     coordinates = init_billiard(table_radius, circle_radius, n, rng);
+    report.done(1, "placed the circles");
   } catch (const NotImplemented& missing) {
-    init_missing = missing;
+    report.failed(1, missing);
   } catch (const std::invalid_argument& error) {
     throw BadInput(printable(error.what()));
   }
@@ -391,73 +422,76 @@ int run(const Options& options, Staging& staging) {
             << " on a table of radius " << table_radius << " (area fraction "
             << format(n * circle_radius * circle_radius / (table_radius * table_radius), 3) << "), seed "
             << options.seed << "\n";
-  if (init_missing) report.task_failed(*init_missing);
-  if (coordinates) std::cout << "  task 1 init_billiard     placed the circles\n";
+  if (!coordinates) {
+    for (int task = 2; task <= 6; ++task) report.waits(task, 1);
+    return report.finish(staging);
+  }
 
   std::optional<Velocities> velocities;
-  if (coordinates) {
-    try {
-      velocities = init_velocities(n, *coordinates, rng);
-      std::cout << "  task 2 init_velocities   gave each circle a random velocity\n";
-    } catch (const std::exception& error) {
-      report.task_failed(error);
-    }
-    try {
-      visualize_table(table_radius, circle_radius, n, *coordinates, staging.file("table.svg"));
-      std::cout << "  task 3 visualize_table   drew the table: table.svg\n";
-    } catch (const std::exception& error) {
-      report.task_failed(error);
-    }
+  try {
+    velocities = init_velocities(n, *coordinates, rng);
+    report.done(2, "gave each circle a random velocity");
+  } catch (const std::exception& error) {
+    report.failed(2, error);
   }
-  if (!velocities) return report.finish(staging);
+  try {
+    visualize_table(table_radius, circle_radius, n, *coordinates, staging.file("table.svg"));
+    report.done(3, "drew the table: table.svg");
+  } catch (const std::exception& error) {
+    report.failed(3, error);
+  }
+  if (!velocities) {
+    for (int task : {4, 5, 6}) report.waits(task, 2);
+    return report.finish(staging);
+  }
 
   std::optional<double> before;
   try {
     before = kinetic_energy(n, *velocities);
   } catch (const std::exception& error) {
-    report.task_failed(error);
+    report.failed(6, error);
   }
   // With no circles, or all at rest, nothing ever collides: the movie is a still picture.
   const bool moving = n > 0 && velocities->squaredNorm() > 0;
-  bool advanced = moving;
+  bool advanced = moving;  // propagate works (as far as the movie could tell)
   try {
     movie(table_radius, circle_radius, n, *coordinates, *velocities, moving ? options.collisions : 0,
           staging.file("movie.svg"));
-    std::cout << "  task 5 movie             recorded " << (moving ? options.collisions : 0)
-              << " collisions: movie.svg\n";
-  } catch (const NotImplemented& error) {
-    report.task_failed(error);
-    advanced = advanced && error.task_number() == 5;  // only movie is missing: propagate may work
+    report.done(5, "recorded " + std::to_string(moving ? options.collisions : 0) + " collisions: movie.svg");
   } catch (const std::exception& error) {
-    report.task_failed(error);
-    advanced = false;
+    // The movie runs propagate: a missing or failing propagate is task 4's problem.
+    const int task = task_of(error, 5);
+    report.failed(task, error);
+    if (task == 4) report.waits(5, 4);
+    advanced = advanced && task == 5;  // only movie is missing: propagate may work
   }
-  if (!moving) std::cout << "  task 4 propagate         nothing moves, so nothing collides\n";
+  if (!moving) report.done(4, "nothing moves, so nothing collides");
   try {
     double elapsed = 0;
     for (long long k = 0; advanced && k < options.drift_collisions; ++k) {
       elapsed += propagate(table_radius, circle_radius, n, *coordinates, *velocities).time;
     }
     if (advanced) {
-      std::cout << "  task 4 propagate         " << options.drift_collisions << " more collisions, simulated time "
-                << format(elapsed) << "\n";
+      report.done(4, std::to_string(options.drift_collisions) + " more collisions, simulated time " + format(elapsed));
     }
   } catch (const std::exception& error) {
-    report.task_failed(error);
+    report.failed(4, error);
     advanced = false;
+  }
+  if (before && !(advanced && *before > 0)) {
+    report.done(6, "<v^2> = " + format(*before, 12) + " at the start" +
+                       (moving ? "; the drift report waits for task 4 (propagate)" : "; nothing moves, no drift"));
   }
   if (before && advanced && *before > 0) {
     try {
       const double after = kinetic_energy(n, *velocities);
       correct_energy_drift(n, *velocities, *before);
       const double corrected = kinetic_energy(n, *velocities);
-      std::cout << "  task 6 kinetic_energy    <v^2> before " << format(*before, 12) << ", after "
-                << format(after, 12) << "\n"
-                << "                           relative drift " << format(std::abs(after - *before) / *before, 3)
-                << " without correction, " << format(std::abs(corrected - *before) / *before, 3)
-                << " after correct_energy_drift\n";
+      report.done(6, "<v^2> before " + format(*before, 12) + ", after " + format(after, 12));
+      report.done(6, "relative drift " + format(std::abs(after - *before) / *before, 3) + " without correction, " +
+                         format(std::abs(corrected - *before) / *before, 3) + " after correct_energy_drift");
     } catch (const std::exception& error) {
-      report.task_failed(error);
+      report.failed(6, error);
     }
   }
   return report.finish(staging);

@@ -98,8 +98,10 @@ TEST_F(Cli, DefaultTableRunsAllSixTasksAndWritesBothPictures) {
   SKIP_WHILE_A_TASK_IS_MISSING(result);
   ASSERT_EQ(result.status, 0) << result.out << result.err;
   EXPECT_EQ(result.err, "");
+  std::size_t at = 0;  // each task reported, in order
   for (const char* task : {"task 1", "task 2", "task 3", "task 4", "task 5", "task 6"}) {
-    EXPECT_NE(result.out.find(task), std::string::npos) << task << " missing from:\n" << result.out;
+    at = result.out.find(task, at);
+    ASSERT_NE(at, std::string::npos) << task << " missing or out of order:\n" << result.out;
   }
   const std::string table = slurp(folder_ / "work/billiard-output/table.svg");
   const std::string movie = slurp(folder_ / "work/billiard-output/movie.svg");
@@ -273,6 +275,18 @@ TEST_F(Cli, BuiltFromStubsItNamesTheMissingTaskInsteadOfCrashing) {
   EXPECT_EQ(result.status, 1) << result.out << result.err;
   EXPECT_NE(result.out.find("task 1 (init_billiard) is not implemented yet"), std::string::npos) << result.out;
   EXPECT_NE(result.out.find("tasks/init_billiard.cpp"), std::string::npos) << result.out;
+  // Every task in order, each of the others waiting for task 1, and where to start.
+  std::size_t at = 0;
+  for (int task = 1; task <= 6; ++task) {
+    const auto line = result.out.find("  task " + std::to_string(task) + " ", at);
+    ASSERT_NE(line, std::string::npos) << "task " << task << " missing or out of order:\n" << result.out;
+    at = line + 1;
+    const std::string text = result.out.substr(line, result.out.find('\n', line) - line);
+    if (task > 1) {
+      EXPECT_NE(text.find("waits for task 1 (init_billiard)"), std::string::npos) << text;
+    }
+  }
+  EXPECT_NE(result.out.find("start with task 1 (init_billiard)"), std::string::npos) << result.out;
   EXPECT_TRUE(result.files.empty());
 }
 #endif

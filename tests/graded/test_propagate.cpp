@@ -76,8 +76,8 @@ const char* const kHintEarliest =
     "and process the smallest one; the order of the circles in the arrays does not matter.";
 const char* const kHintPairTime =
     "two circles touch when their centres are 2 * circle_radius apart: solve |dr + dv t| = 2a for t "
-    "(dr = r_i - r_j, dv = v_i - v_j) and take the smallest positive root, using the stable form from the "
-    "physics notes.";
+    "(dr = r_i - r_j, dv = v_i - v_j) and take the smallest positive root, using the stable form given in "
+    "tasks/propagate.cpp.";
 const char* const kHintWallTime =
     "a circle touches the wall when its centre is table_radius - circle_radius from the origin: solve "
     "|r + v t| = R - a for the positive root.";

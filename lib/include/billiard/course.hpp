@@ -1,7 +1,7 @@
 // The course contract: the six functions students write for N hard discs ("circles") that
 // collide elastically on a circular table of radius `table_radius` centred at the origin.
 // Included by tasks/ (the student's code), solutions/ (the reference), tests/ and the CLI.
-// The physics is in the project's physics notes; each task's file in tasks/ explains its job.
+// Each task's file in tasks/ explains its job and the formulas it needs.
 //
 // Units: lengths in table units, times in the units the velocities imply (length / speed).
 // Arrays: `Coordinates` and `Velocities` have n rows, column 0 is x and column 1 is y.
