@@ -5,11 +5,14 @@
 #   ./build.sh python                       build the Python module `billiard` and make Debian's
 #                                           /usr/bin/python3 import it (for the notebooks)
 #   ./build.sh grade [grader options]       grade tasks/ per task, as the graders do (--help)
+#   ./build.sh bench [benchmark options]    build, then run the engine's benchmark (--help)
 #   ./build.sh setup                        only install the missing Debian packages (the graders'
 #                                           setup; root or sudo)
 # Each first installs the Debian packages the build needs (only the missing ones), then configure
-# and build with CMake. Set BILLIARD_PRESET to use another preset from CMakePresets.json
-# (default: "release", the reference solutions, where solutions/ exists; else "tasks").
+# and build with CMake. `test -L LABEL` builds only what those tests need, and the labels the
+# full run leaves out (stress, platforms) run when named: ./build.sh test -L stress. Set
+# BILLIARD_PRESET to use another preset from CMakePresets.json (default: "release", the
+# reference solutions, where solutions/ exists; else "tasks").
 set -euo pipefail
 cd "$(dirname "$0")"
 if [ -z "${BILLIARD_PRESET:-}" ]; then
@@ -17,7 +20,7 @@ if [ -z "${BILLIARD_PRESET:-}" ]; then
 fi
 
 usage() {
-  sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'
+  awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"
 }
 
 # Debian packages, by what needs them. Names are apt-get names: there is no PyPI here.
@@ -27,7 +30,7 @@ packages=(
   libeigen3-dev                  # vectors and matrices
   libgtest-dev                   # the graded test suites
   python3                        # the grader (tests/grader/grade.py), run as /usr/bin/python3
-  python3-yaml                   # the packaging tests (tests/grader/test_packages.py) read YAML
+  python3-yaml                   # the instructors' packaging tests read YAML (GitHub workflows)
   make                           # the Autolab package's test runs its Makefile
 )
 # The Python module and the notebooks need these as well (test, python):
@@ -105,6 +108,23 @@ targets_for_selection() {
   done
 }
 
+# named_excluded_label [ctest options]: prints "-LE ^$" (exclude nothing) when the options name
+# a label that the test presets leave out (stress, platforms) and exclude nothing themselves, so
+# that `./build.sh test -L stress` runs those tests.
+named_excluded_label() {
+  local named=0
+  while [ $# -gt 0 ]; do
+    case "$1" in
+      -LE|--label-exclude|--label-exclude=*) return 0 ;;
+      -L|--label-regex) [ $# -gt 1 ] && [[ "$2" =~ stress|platforms ]] && named=1; shift ;;
+      --label-regex=*) [[ "$1" =~ stress|platforms ]] && named=1 ;;
+    esac
+    shift
+  done
+  [ "$named" = 1 ] && echo "-LE ^\$"
+  return 0
+}
+
 # The fuzz tests' counts (cases tried, how each ended), from the log of the test run just done.
 print_fuzz_counts() {
   local log=build/$BILLIARD_PRESET/Testing/Temporary/LastTest.log counts
@@ -134,7 +154,7 @@ case "$command" in
     status=0
     results=$PWD/build/$BILLIARD_PRESET/Testing/results.xml
     rm -f "$results"
-    ctest --preset "$BILLIARD_PRESET" --output-junit "$results" "$@" || status=$?
+    ctest --preset "$BILLIARD_PRESET" --output-junit "$results" "$@" $(named_excluded_label "$@") || status=$?
     print_fuzz_counts
     # Where the tasks stand and what to do next, in a few lines (tests/grader/progress.py).
     [ -f "$results" ] && /usr/bin/python3 tests/grader/progress.py "$results"
@@ -145,6 +165,11 @@ case "$command" in
     configure_options=(-DBILLIARD_PYTHON=ON)
     build billiard_python
     register_python_module
+    ;;
+  bench)
+    install_missing_packages
+    build billiard_bench
+    exec "build/$BILLIARD_PRESET/lib/bench/billiard_bench" "$@"
     ;;
   grade)
     install_missing_packages

@@ -276,6 +276,20 @@ std::vector<std::array<double, 2>> single_circle_samples(int count, std::uint64_
   return samples;
 }
 
+// Centres farther out than R - a skew every statistic of the positions, so the hint of a
+// statistical test names that mistake before it guesses at the distribution.
+double farthest_centre(const std::vector<std::array<double, 2>>& samples) {
+  double farthest = 0;
+  for (const auto& s : samples) farthest = std::max(farthest, std::hypot(s[0], s[1]));
+  return farthest;
+}
+std::string reach_first(double farthest, double rho, const std::string& guess) {
+  if (farthest <= rho * (1 + 1e-9)) return guess;
+  return text("first fix where the centres may lie: some are ", farthest, " from the middle, beyond R - a = ", rho,
+              ", so those circles stick out of the table (EveryCircleLiesFullyInsideTheTable says the same); draw "
+              "centres within R - a, then this statistic changes too");
+}
+
 GRADED_TEST(InitBilliard, SingleCircleIsCentredOnAverage, 2, after_due_date) {
   // S = 20000 samples: standard error of the mean of x is (rho / 2) / sqrt(S) = 4.5 / 141 =
   // 0.032, so the bound is 5 * 0.032 = 0.16 (1.8% of rho).
@@ -316,9 +330,14 @@ GRADED_TEST(InitBilliard, SingleCircleIsUniformInArea, 3, after_due_date) {
            "the mean of r^2 = x^2 + y^2 over ", S, " seeds is rho^2 / 2 = ", expected, " within ", bound),
       text("the mean of r^2 was ", mean_r2,
            mean_r2 < expected ? " (too many centres near the middle)" : " (too many centres near the wall)"),
-      "drawing the distance r uniformly in [0, rho] and a random angle crowds the centre (mean r^2 = rho^2 / 3); "
-      "draw x and y uniformly in the square and reject points outside the disc, or use r = rho * sqrt(u) with u "
-      "uniform in [0, 1]");
+      reach_first(farthest_centre(samples), rho,
+                  mean_r2 < expected
+                      ? "drawing the distance r uniformly in [0, rho] and a random angle crowds the centre (mean r^2 "
+                        "= rho^2 / 3); draw x and y uniformly in the square and reject points outside the disc, or "
+                        "use r = rho * sqrt(u) with u uniform in [0, 1]"
+                      : "something pushes the centres outwards (for example r = rho * u^(1/4), or points of the "
+                        "square kept without rejecting those outside the disc): draw x and y uniformly in the "
+                        "square and reject points outside the disc of radius rho"));
 }
 
 GRADED_TEST(InitBilliard, SingleCircleQuadrantsAreEquallyLikely, 2, after_due_date) {
@@ -359,6 +378,11 @@ GRADED_TEST(InitBilliard, SingleCircleFillsEqualAreasEquallyOften, 2, after_due_
     count[static_cast<std::size_t>(ring * kSectors + sector)] += 1;
   }
   const double expected = double(S) / (kRings * kSectors);
+  const auto ring_count = [](const auto& counts, int ring) {
+    double total = 0;
+    for (int sector = 0; sector < kSectors; ++sector) total += counts[static_cast<std::size_t>(ring * kSectors + sector)];
+    return total;
+  };
   double chi2 = 0, fullest = 0, emptiest = double(S);
   for (const double c : count) {
     chi2 += (c - expected) * (c - expected) / expected;
@@ -368,9 +392,12 @@ GRADED_TEST(InitBilliard, SingleCircleFillsEqualAreasEquallyOften, 2, after_due_
   EXPECT_LE(chi2, 140.0) << explain(
       text("a single circle to be uniform over the reachable disc: in ", S, " seeds, each of 64 equal-area cells "
            "(8 rings x 8 sectors) gets about ", expected, " centres (chi^2 below 140)"),
-      text("the counts ranged from ", emptiest, " to ", fullest, ", chi^2 = ", chi2),
-      "draw continuous random positions (not grid points or a few fixed spots), uniform in area: x and y uniform "
-      "in the square [-(R - a), R - a]^2 with rejection of points outside the disc");
+      text("the counts ranged from ", emptiest, " to ", fullest, ", chi^2 = ", chi2, "; the innermost ring got ",
+           ring_count(count, 0), " and the outermost ", ring_count(count, kRings - 1), " of the ",
+           expected * kSectors, " each ring expects"),
+      reach_first(farthest_centre(samples), rho,
+                  "draw continuous random positions (not grid points or a few fixed spots), uniform in area: x and "
+                  "y uniform in the square [-(R - a), R - a]^2 with rejection of points outside the disc"));
 }
 
 // For a dilute table (n = 5, R = 20, a = 1, area fraction 0.0125) every circle, whatever its
@@ -429,13 +456,16 @@ GRADED_TEST(InitBilliard, DiluteTableIsUniformInArea, 2, after_due_date) {
   constexpr int S = 10000;
   const double rho = kDilute.R - kDilute.a;
   const double split = rho / std::sqrt(2.0);
-  double sum = 0, sum2 = 0;
+  double sum = 0, sum2 = 0, farthest = 0;
   for (int k = 0; k < S; ++k) {
     const std::uint64_t seed = 400000 + static_cast<std::uint64_t>(k);
     const Coordinates c = place(kDilute, seed);
     if (!check_shape(c, kDilute, seed)) return;
     double inside = 0;
-    for (Eigen::Index i = 0; i < c.rows(); ++i) inside += c.row(i).norm() < split ? 1.0 / kDilute.n : 0.0;
+    for (Eigen::Index i = 0; i < c.rows(); ++i) {
+      inside += c.row(i).norm() < split ? 1.0 / kDilute.n : 0.0;
+      farthest = std::max(farthest, c.row(i).norm());
+    }
     sum += inside;
     sum2 += inside * inside;
   }
@@ -446,8 +476,9 @@ GRADED_TEST(InitBilliard, DiluteTableIsUniformInArea, 2, after_due_date) {
       text("the circles of init_billiard(20, 1, 5, rng) to be uniform in area, so that over ", S,
            " seeds half of them are closer to the centre than (R - a) / sqrt(2) = ", split, " (within ", bound, ")"),
       text("a fraction ", fraction, " was closer", fraction > 0.5 ? " (crowded towards the centre)" : " (crowded towards the wall)"),
-      "choose x and y uniformly in the square [-(R - a), R - a]^2 and reject points outside the disc (or use "
-      "r = (R - a) sqrt(u)); drawing the distance from the centre uniformly crowds the middle");
+      reach_first(farthest, rho,
+                  "choose x and y uniformly in the square [-(R - a), R - a]^2 and reject points outside the disc (or "
+                  "use r = (R - a) sqrt(u)); drawing the distance from the centre uniformly crowds the middle"));
 }
 
 // --- Invalid arguments -------------------------------------------------------------------------

@@ -43,6 +43,19 @@ const char* const kHintMean =
 // ---------------------------------------------------------------------------------------------
 // kinetic_energy
 
+// The hint for a wrong <v^2> of n circles whose right value is `mean`: the two common slips by
+// name (the sum instead of the mean; the 1/2 of the kinetic energy), otherwise the definition.
+std::string mean_square_hint(double got, double mean, int n) {
+  if (std::abs(got - n * mean) <= 1e-9 * n * mean) {
+    return "you returned the sum of the squared speeds; <v^2> is their mean, so divide by n.";
+  }
+  if (std::abs(got - mean / 2) <= 1e-9 * mean) {
+    return "you returned half of <v^2>: kinetic_energy returns the mean squared speed itself, without the 1/2 of "
+           "the kinetic energy m v^2 / 2.";
+  }
+  return kHintMean;
+}
+
 GRADED_TEST(KineticEnergy, TwoCirclesByHand, 2, visible) {
   // (3^2 + 4^2 + 0 + 0) / 2 = 12.5
   Velocities v(2, 2);
@@ -50,8 +63,7 @@ GRADED_TEST(KineticEnergy, TwoCirclesByHand, 2, visible) {
   const double got = billiard::kinetic_energy(2, v);
   EXPECT_NEAR(got, 12.5, kRel * 12.5) << explain("<v^2> = (3^2 + 4^2 + 0^2 + 0^2) / 2 = 12.5 for velocities (3, 4) and (0, 0)",
                                                  text("returned ", got),
-                                                 got == 25 ? "you returned the sum; divide by the number of circles n."
-                                                           : kHintMean);
+                                                 mean_square_hint(got, 12.5, 2));
 }
 
 GRADED_TEST(KineticEnergy, DividesByTheNumberOfCircles, 3, after_due_date) {
@@ -60,10 +72,7 @@ GRADED_TEST(KineticEnergy, DividesByTheNumberOfCircles, 3, after_due_date) {
   v << 1, 0, 0, -1, 2, 0, 0, 2;
   const double got = billiard::kinetic_energy(4, v);
   EXPECT_NEAR(got, 2.5, kRel * 2.5) << explain("the mean <v^2> = (1 + 1 + 4 + 4) / 4 = 2.5", text("returned ", got),
-                                               std::abs(got - 10) < 1e-9
-                                                   ? "you returned the sum of the squared speeds; <v^2> is their mean, "
-                                                     "so divide by n."
-                                                   : kHintMean);
+                                               mean_square_hint(got, 2.5, 4));
 }
 
 GRADED_TEST(KineticEnergy, SquaresTheSpeeds, 2, after_due_date) {

@@ -28,6 +28,17 @@
 namespace billiard::testing {
 namespace {
 
+// The hint for an animation a browser cannot play: about keyTimes when they are what is wrong.
+std::string animation_hint(const std::string& problem) {
+  if (problem.find("keyTimes must") != std::string::npos) {
+    return "keyTimes are moments as fractions of the whole duration, so they grow from 0 to 1: use the running "
+           "total of the collision times, T_k = t_1 + ... + t_k (the sum of what propagate returned so far), "
+           "divided by the total T, not each collision's own time t_k";
+  }
+  return "each disc's <circle> needs one <animate attributeName=\"cx\" values=\"x0;x1;...\" keyTimes=\"0;...;1\" "
+         "dur=\"...s\"/> and one for cy";
+}
+
 namespace fs = std::filesystem;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -198,8 +209,7 @@ std::optional<Film> understand(const SvgDocument& picture, const System& s, cons
     }
   } catch (const SvgError& error) {
     ADD_FAILURE() << explain(text(call(s), " to write <animate> elements a browser can play"), error.what(),
-                             "each disc's <circle> needs one <animate attributeName=\"cx\" values=\"x0;x1;...\" "
-                             "keyTimes=\"0;...;1\" dur=\"...s\"/> and one for cy");
+                             animation_hint(error.what()));
     return std::nullopt;
   }
   if (!(best_error <= kPictureTolerance * s.R)) {
@@ -239,8 +249,7 @@ void expect_positions(const System& s, const Film& film, const std::vector<doubl
     }
   } catch (const SvgError& error) {
     ADD_FAILURE() << explain(text(call(s), " to write <animate> elements a browser can play"), error.what(),
-                             "each disc's <circle> needs one <animate attributeName=\"cx\" values=\"x0;x1;...\" "
-                             "keyTimes=\"0;...;1\" dur=\"...s\"/> and one for cy");
+                             animation_hint(error.what()));
     return;
   }
   if (worst > kPictureTolerance * s.R) {

@@ -41,8 +41,6 @@ struct Table {
   int n() const { return static_cast<int>(c.rows()); }
 };
 
-Collision step(Table& t) { return billiard::propagate(t.R, t.a, t.n(), t.c, t.v); }
-
 std::string describe(const Collision& c) {
   if (c.other == kWall) {
     return text("Collision{time = ", c.time, ", circle = ", c.circle, ", other = kWall} (circle ", c.circle,
@@ -50,6 +48,26 @@ std::string describe(const Collision& c) {
   }
   return text("Collision{time = ", c.time, ", circle = ", c.circle, ", other = ", c.other, "} (circles ", c.circle,
               " and ", c.other, " collide after time ", c.time, ")");
+}
+
+// Calls the student's propagate. Two results are wrong in every test, a negative time (an event
+// in the past) and a circle paired with itself; they are reported here, before a test's own
+// checks report what followed from them, so that the first message names the mistake.
+Collision step(Table& t) {
+  const Collision got = billiard::propagate(t.R, t.a, t.n(), t.c, t.v);
+  if (got.time < 0) {
+    ADD_FAILURE() << explain("the time until the next collision, which is never negative", text("returned ", describe(got)),
+                             "a negative time is a contact in the past: pairs moving apart (b = dr.dv >= 0) never "
+                             "collide, and for approaching pairs take the first-contact root t = c / (-b + sqrt(d)), "
+                             "clamped to 0; the textbook root (-b - sqrt(d)) / |dv|^2 of a pair moving apart is "
+                             "negative.");
+  }
+  if (got.other == got.circle) {
+    ADD_FAILURE() << explain("a collision of two different circles, or of a circle with the wall",
+                             text("returned ", describe(got)),
+                             "loop over pairs j > i (or skip j == i): a circle cannot collide with itself.");
+  }
+  return got;
 }
 
 bool is_pair(const Collision& c, int i, int j) {

@@ -124,6 +124,14 @@ def mutant_source(mutant):
     return "".join(pieces) + solution[at:]
 
 
+def lead_hint(mutant):
+    """The words the lead hint must hold, from the mutant's "Lead hint names: ..." line, or ""."""
+    for line in mutant.read_text().splitlines():
+        if line.startswith("Lead hint names: "):
+            return line[len("Lead hint names: "):].strip()
+    return ""
+
+
 def submission_from_solutions(**replacements):
     """A temporary submission: the reference files, with some replaced by the given files
     (a .mutant file is applied to the reference solution of its task)."""
@@ -303,17 +311,32 @@ class GradesKnownSubmissions(unittest.TestCase):
 
 class Mutants(unittest.TestCase):
     def test_every_mutant_loses_points_only_in_its_own_task(self):
+        """...and the first visible test of its task that fails leads with a hint naming the bug, for
+        every mutant that models a student's mistake (its "Lead hint names:" line); at least five
+        such mutants per task."""
         mutants = sorted((REPO / "tests" / "mutants").glob("*/*.mutant"))
         self.assertGreaterEqual(len(mutants), 20)
         problems = []
+        with_lead = {task: 0 for task in TASKS}
         for mutant in mutants:
             task = mutant.parent.name
             submission = submission_from_solutions(**{task: mutant})
             try:
                 # Unchanged suites (all but the mutant's own) are remembered, not run again.
-                scores, maxima, _, _, _ = grade(submission, "--brief", "--cache", str(BUILD.parent / "grader-cache"))
+                scores, maxima, report, _, _ = grade(submission, "--brief", "--cache",
+                                                     str(BUILD.parent / "grader-cache"))
             finally:
                 shutil.rmtree(submission)
+            lead = lead_hint(mutant)
+            if lead:
+                with_lead[task] += 1
+                first = next((test for test in report["tests"] if test["name"].startswith(task + ":")
+                              and test["status"] == "failed" and test["visibility"] != "hidden"), None)
+                hint = next((line for line in (first or {}).get("output", "").splitlines() if line.startswith("Hint:")), "")
+                if lead.lower() not in hint.lower():
+                    problems.append(f"{task}/{mutant.name}: the first failing test "
+                                    f"{first['name'] if first else '(none)'} leads with \"{hint}\", which does not "
+                                    f"name the bug (\"{lead}\")")
             line = f"{task}/{mutant.name}: " + ", ".join(f"{t} {scores[t]}/{maxima[t]}" for t in TASKS)
             print(line, flush=True)
             if scores[task] >= maxima[task]:
@@ -321,6 +344,9 @@ class Mutants(unittest.TestCase):
             for other in TASKS:
                 if other != task and scores[other] != maxima[other]:
                     problems.append(f"{task}/{mutant.name} costs points in {other}")
+        print("mutants with a lead hint: " + ", ".join(f"{task} {count}" for task, count in with_lead.items()), flush=True)
+        problems += [f"{task}: only {count} mutants check the lead hint (5 wanted)"
+                     for task, count in with_lead.items() if count < 5]
         self.assertEqual(problems, [])
 
 

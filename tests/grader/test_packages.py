@@ -158,6 +158,54 @@ class StudentRelease(unittest.TestCase):
         self.assertNotEqual(maxima(hidden=False), maxima(), "the instructors' suites have hidden tests")
 
 
+class StudentLoop(unittest.TestCase):
+    """The release as a student uses it: the first test run on the stubs, the edit-and-test loop of
+    one task, the run once every task is written, and every command and path its README names."""
+
+    def test_first_run_next_step_loop_and_every_command(self):
+        folder = student_release()
+        # build.sh registers the release's Python module for the user (a .pth file): a user
+        # folder of its own, so that this build's registration stays as it is.
+        env = environment(PYTHONUSERBASE=str(fresh(WORK / "student-loop-python")))
+        try:
+            # The first ./build.sh test on the stubs ends with a short block that says where to start.
+            status, output = run(["./build.sh", "test"], cwd=folder, env=env)
+            self.assertNotEqual(status, 0, "the stubs cannot pass")
+            block = output[output.rindex("Where the tasks stand:"):].rstrip("\n").splitlines()
+            self.assertLessEqual(len(block), 10, "\n".join(block))
+            self.assertEqual(block[-2:], ["Next: write task 1 (init_billiard) in tasks/init_billiard.cpp",
+                                          "  then run: ./build.sh test -L init_billiard"])
+            self.assertNotIn("Traceback", output, "a task that is not written yet gives one line, not a traceback")
+
+            # Edit one task, test it: only that suite is rebuilt (no Python module, no link-time
+            # optimisation). The time is printed for the README's figure, not checked here.
+            (folder / "tasks" / "kinetic_energy.cpp").touch()
+            started = time.monotonic()
+            status, output = run(["./build.sh", "test", "-L", "kinetic_energy"], cwd=folder, env=env)
+            seconds = time.monotonic() - started
+            print(f"student loop: touch tasks/kinetic_energy.cpp, ./build.sh test -L kinetic_energy: {seconds:.1f} s",
+                  flush=True)
+            self.assertIn("Linking CXX executable tests/test_kinetic_energy", output)
+            for unwanted in ["_billiard", "test_propagate", "lto-wrapper"]:
+                self.assertNotIn(unwanted, output)
+            self.assertIn("6 kinetic_energy   not written yet", output)
+
+            # Every task written (the reference code): the same command passes, and says so.
+            for task in TASKS:
+                shutil.copyfile(REPO / "solutions" / f"{task}.cpp", folder / "tasks" / f"{task}.cpp")
+            status, output = run(["./build.sh", "test"], cwd=folder, env=env)
+            self.assertEqual(status, 0, output[-5000:])
+            self.assertTrue(output.rstrip().endswith("Next: nothing; every test passed. Well done."), output[-2000:])
+
+            # Every command and path the release names works or exists there.
+            status, output = run(["/usr/bin/python3", str(HERE / "release_check.py"), str(folder)], env=env)
+            print(output.splitlines()[-1] if output else "", flush=True)
+            self.assertEqual(status, 0, output[-8000:])
+        finally:
+            for task in TASKS:
+                shutil.copyfile(REPO / "tasks" / f"{task}.cpp", folder / "tasks" / f"{task}.cpp")
+
+
 class Classroom(unittest.TestCase):
     def test_committed_workflow_is_the_generated_one(self):
         status, output = run(["/usr/bin/python3", str(HERE / "package.py"), "classroom", "--tests", str(TESTS), "--check"])
