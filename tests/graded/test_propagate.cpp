@@ -497,8 +497,15 @@ GRADED_TEST(Propagate, CircleKnockedAgainstTheWallBouncesBackAtOnce, 2, after_du
       {16, 1, kWall, "circle 1 to cross the table and hit the wall at time 16", kHintWallTime},
   };
   for (int s = 0; s < 4; ++s) {
-    const Collision got = step(t);
     const Expected& e = expected[s];
+    Collision got{};
+    try {
+      got = step(t);
+    } catch (const std::invalid_argument& error) {  // e.g. no event found: a circle escaped
+      ADD_FAILURE() << explain(text("step ", s + 1, ": ", e.what),
+                               text("it threw std::invalid_argument: \"", error.what(), "\""), e.hint);
+      return;
+    }
     const bool event_ok = e.other == kWall ? is_wall(got, e.circle) : is_pair(got, e.circle, e.other);
     if (!event_ok || !(std::abs(got.time - e.time) <= kTol)) {
       ADD_FAILURE() << explain(text("step ", s + 1, ": ", e.what), text("returned ", describe(got)), e.hint);
