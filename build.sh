@@ -87,20 +87,28 @@ register_python_module() {
   echo "build.sh: /usr/bin/python3 imports billiard from build/$BILLIARD_PRESET/python (via $site/billiard.pth)"
 }
 
-# targets_for_selection [ctest options]: sets `targets` to what the tests chosen by the options'
-# labels run (-L LABEL, --label-regex LABEL), so that a student's `./build.sh test -L propagate`
-# builds only that task's suite. Empty (build everything) when there is no -L, or a label is a
-# pattern or one whose tests have not declared what they need (build/<preset>/test_labels.txt).
-targets_for_selection() {
-  targets=()
-  local list=build/$BILLIARD_PRESET/test_labels.txt labels=() label
+# read_label_options [ctest options]: sets `labels` to the labels the options select (-L LABEL,
+# --label-regex LABEL) and `label_exclude` to 1 when they exclude labels themselves (-LE).
+read_label_options() {
+  labels=()
+  label_exclude=0
   while [ $# -gt 0 ]; do
     case "$1" in
       -L|--label-regex) [ $# -gt 1 ] && labels+=("$2"); shift ;;
       --label-regex=*) labels+=("${1#--label-regex=}") ;;
+      -LE|--label-exclude|--label-exclude=*) label_exclude=1 ;;
     esac
     shift
   done
+}
+
+# targets_for_labels: sets `targets` to what the tests with those labels run, so that a
+# student's `./build.sh test -L propagate` builds only that task's suite. Empty (build
+# everything) when no label is selected, or one is a pattern or a label whose tests have not
+# declared what they need (build/<preset>/test_labels.txt).
+targets_for_labels() {
+  targets=()
+  local list=build/$BILLIARD_PRESET/test_labels.txt label
   [ ${#labels[@]} -gt 0 ] && [ -f "$list" ] || return 0
   for label in "${labels[@]}"; do
     if ! grep -qxF -- "$label" "$list"; then targets=(); return 0; fi
@@ -108,20 +116,16 @@ targets_for_selection() {
   done
 }
 
-# named_excluded_label [ctest options]: prints "-LE ^$" (exclude nothing) when the options name
-# a label that the test presets leave out (stress, platforms) and exclude nothing themselves, so
-# that `./build.sh test -L stress` runs those tests.
-named_excluded_label() {
-  local named=0
-  while [ $# -gt 0 ]; do
-    case "$1" in
-      -LE|--label-exclude|--label-exclude=*) return 0 ;;
-      -L|--label-regex) [ $# -gt 1 ] && [[ "$2" =~ stress|platforms ]] && named=1; shift ;;
-      --label-regex=*) [[ "$1" =~ stress|platforms ]] && named=1 ;;
-    esac
-    shift
+# excluded_labels_named: sets `include_excluded` to "-LE ^$" (exclude nothing) when a selected
+# label is one the test presets leave out (stress, platforms) and the options exclude nothing
+# themselves, so that `./build.sh test -L stress` runs those tests.
+excluded_labels_named() {
+  include_excluded=()
+  local label
+  [ "$label_exclude" = 1 ] && return 0
+  for label in "${labels[@]}"; do
+    [[ "$label" =~ stress|platforms ]] && include_excluded=(-LE '^$')
   done
-  [ "$named" = 1 ] && echo "-LE ^\$"
   return 0
 }
 
@@ -148,13 +152,15 @@ case "$command" in
     install_missing_packages "${python_packages[@]}"
     configure_options=(-DBILLIARD_PYTHON=ON)  # the module and notebooks are tested: never skip them
     configure
-    targets_for_selection "$@"
+    read_label_options "$@"
+    targets_for_labels
+    excluded_labels_named
     build_targets "${targets[@]}"
     register_python_module >/dev/null
     status=0
     results=$PWD/build/$BILLIARD_PRESET/Testing/results.xml
     rm -f "$results"
-    ctest --preset "$BILLIARD_PRESET" --output-junit "$results" "$@" $(named_excluded_label "$@") || status=$?
+    ctest --preset "$BILLIARD_PRESET" --output-junit "$results" "$@" "${include_excluded[@]}" || status=$?
     print_fuzz_counts
     # Where the tasks stand and what to do next, in a few lines (tests/grader/progress.py).
     [ -f "$results" ] && /usr/bin/python3 tests/grader/progress.py "$results"

@@ -364,18 +364,19 @@ class Report {
     if (first_failed_ == 0 || task < first_failed_) first_failed_ = task;
   }
   void waits(int task, int for_task) {
-    if (lines_[index(task)].empty()) {
-      lines_[index(task)].push_back("waits for task " + std::to_string(for_task) + " (" + kNames[index(for_task)] + ")");
-    }
+    if (lines_[index(task)].empty()) lines_[index(task)].push_back(waiting_for(for_task));
+  }
+  static std::string waiting_for(int task) {
+    return "waits for task " + std::to_string(task) + " (" + kNames[index(task)] + ")";
   }
   // Prints the tasks, moves the files into place and says what was written; the exit status.
   int finish(Staging& staging) const {
     for (int task = 1; task <= 6; ++task) {
       std::string label = "  task " + std::to_string(task) + " " + kNames[index(task)];
-      label.resize(27, ' ');
+      label.resize(kLabelWidth, ' ');
       for (const auto& line : lines_[index(task)]) {
         std::cout << label << line << "\n";
-        label.assign(27, ' ');
+        label.assign(kLabelWidth, ' ');  // further lines of the same task: indented only
       }
     }
     for (const auto& file : staging.publish()) std::cout << "  wrote " << printable(file.string()) << "\n";
@@ -389,6 +390,7 @@ class Report {
   static constexpr const char* kNames[6] = {"init_billiard", "init_velocities", "visualize_table",
                                             "propagate",     "movie",           "kinetic_energy"};
   static std::size_t index(int task) { return static_cast<std::size_t>(task - 1); }
+  static constexpr std::size_t kLabelWidth = 27;  // "  task 2 init_velocities" and a gap
   std::vector<std::string> lines_[6];
   int first_failed_ = 0;  // 0: none
 };
@@ -480,7 +482,7 @@ int run(const Options& options, Staging& staging) {
   }
   if (before && !(advanced && *before > 0)) {
     report.done(6, "<v^2> = " + format(*before, 12) + " at the start" +
-                       (moving ? "; the drift report waits for task 4 (propagate)" : "; nothing moves, no drift"));
+                       (moving ? "; the drift report " + Report::waiting_for(4) : std::string("; nothing moves, no drift")));
   }
   if (before && advanced && *before > 0) {
     try {

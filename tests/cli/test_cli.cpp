@@ -51,6 +51,13 @@ class Cli : public ::testing::Test {
   }
   // The same, with the arguments separated by spaces, as typed.
   Result run(const std::string& exe, const std::string& arguments) { return run(exe, words(arguments)); }
+  // A run only to see whether the tasks it needs are written; it leaves the folder empty again.
+  Result probe(const std::string& arguments) {
+    const Result result = run(BILLIARD_EXE, arguments);
+    fs::remove_all(folder_ / "work");
+    fs::create_directories(folder_ / "work");
+    return result;
+  }
 
   // Bad input: status 2, exactly one line on stderr naming the problem, nothing on stdout,
   // and no file or folder left behind.
@@ -157,9 +164,7 @@ TEST_F(Cli, HelpExplainsUsageAndExitsZero) {
 }
 
 TEST_F(Cli, TooManyCirclesForTheTableIsRefused) {
-  SKIP_WHILE_A_TASK_IS_MISSING(run(BILLIARD_EXE, "10 1 1000 --output probe"));
-  fs::remove_all(folder_ / "work");
-  fs::create_directories(folder_ / "work");
+  SKIP_WHILE_A_TASK_IS_MISSING(probe("10 1 1000"));
   expect_refused("10 1 1000", "cannot fit");
 }
 TEST_F(Cli, NegativeRadiusIsRefused) { expect_refused("-1 1 10", "TABLE_RADIUS"); }
@@ -217,9 +222,7 @@ TEST_F(Cli, NewlineInAnArgumentStaysOnOneLine) {
 }
 TEST_F(Cli, CirclesThatCannotFitLeaveNoOutputFolder) {
   // The output folder is created before task 1 runs; a refusal by task 1 removes it again.
-  SKIP_WHILE_A_TASK_IS_MISSING(run(BILLIARD_EXE, "10 1 1000 --output probe"));
-  fs::remove_all(folder_ / "work");
-  fs::create_directories(folder_ / "work");
+  SKIP_WHILE_A_TASK_IS_MISSING(probe("10 1 1000"));
   expect_refused("10 1 1000 --output new/pictures", "cannot fit");
 }
 

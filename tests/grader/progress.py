@@ -156,11 +156,13 @@ def main(argv):
         print("usage: progress.py JUNIT_XML", file=sys.stderr)
         return 2
     try:
+        ran = ET.parse(argv[0]).getroot().find(".//testcase") is not None
         found = from_ctest_junit(Path(argv[0]))
     except (OSError, ET.ParseError) as error:
         print(f"progress: cannot read the test results {argv[0]}: {error}", file=sys.stderr)
         return 2
-    print("\n" + "\n".join(report(*found)))
+    if ran:  # nothing to say when no test ran (ctest -N)
+        print("\n" + "\n".join(report(*found)))
     return 0
 
 

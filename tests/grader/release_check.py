@@ -54,8 +54,8 @@ def readme_paths(markdown):
     """Paths the README shows in inline code: `tasks/propagate.cpp`, `build/<preset>/python/`."""
     paths = []
     for span in re.findall(r"(?<!`)`([^`\n ]+)`(?!`)", markdown):
-        if "/" in span and not span.startswith(("./", "/", "http")) and not COMMAND_START.match(span.rstrip("/")) \
-                or span.startswith("build/"):
+        # `billiard/...` names a file of the Python package, relative to lib/python/
+        if "/" in span and not span.startswith(("./", "/", "http", "billiard/")):
             paths.append(span)
     return paths
 

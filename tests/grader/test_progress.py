@@ -4,6 +4,8 @@
     /usr/bin/python3 tests/grader/test_progress.py
 """
 
+import contextlib
+import io
 import sys
 import tempfile
 import unittest
@@ -86,8 +88,18 @@ class Report(unittest.TestCase):
         self.assertIn("./build.sh test shows where every task stands", partial[-1])
 
     def test_unreadable_results_exit_2(self):
-        self.assertEqual(progress.main(["/nonexistent/results.xml"]), 2)
+        with tempfile.TemporaryDirectory() as folder:
+            self.assertEqual(progress.main([str(Path(folder) / "missing.xml")]), 2)
         self.assertEqual(progress.main([]), 2)
+
+    def test_no_test_run_prints_nothing(self):
+        with tempfile.TemporaryDirectory() as folder:
+            path = Path(folder) / "results.xml"
+            path.write_text(junit([]))
+            output = io.StringIO()
+            with contextlib.redirect_stdout(output):
+                self.assertEqual(progress.main([str(path)]), 0)
+            self.assertEqual(output.getvalue(), "")
 
 
 if __name__ == "__main__":
