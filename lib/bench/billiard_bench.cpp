@@ -22,8 +22,8 @@
 // allocated like the engine's: the latency of one random cache-line read that depends on the
 // one before, and how many independent random lines per second it delivers. Where the
 // engine's arrays outgrow the fast sizes, its cost per collision steps up.
-#include "billiard/memory.hpp"
-#include "billiard/simulation.hpp"
+#include "memory.hpp"
+#include "billiard/engine/simulation.hpp"
 #ifdef BILLIARD_BENCH_COURSE
 #include "billiard/course.hpp"
 #endif

@@ -1,11 +1,11 @@
-// Python bindings of the event-driven engine (billiard/simulation.hpp, billiard/replay.hpp):
+// Python bindings of the event-driven engine (billiard/engine/simulation.hpp, billiard/engine/replay.hpp):
 // class billiard.Simulation. States and the event log come out as dictionaries of numpy arrays;
 // the replays are generators (billiard/__init__.py wraps the Replay object below). No physics
 // here: only conversions.
 #include "bindings.hpp"
 
-#include "billiard/replay.hpp"
-#include "billiard/simulation.hpp"
+#include "billiard/engine/replay.hpp"
+#include "billiard/engine/simulation.hpp"
 
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>

@@ -1,7 +1,7 @@
 // Helpers shared by the engine tests: random systems that are valid by construction.
 #pragma once
 
-#include "billiard/simulation.hpp"
+#include "billiard/engine/simulation.hpp"
 
 #include <cmath>
 #include <random>

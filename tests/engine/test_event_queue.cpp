@@ -1,9 +1,9 @@
-// The event queue (billiard/event_queue.hpp), a calendar of time buckets in front of a small
+// The event queue (lib/src/engine/event_queue.hpp), a calendar of time buckets in front of a small
 // heap, against a brute-force minimum: random keys, random changes (earlier, later, far in the
 // future, infinite), the pattern of the event loop (pop the top, move it ahead) and a change of
 // time scale that forces the calendar to re-plan its bucket width; and how early the queue
 // announces the entries it is about to hand out (the prefetch hints of the event loop).
-#include "billiard/event_queue.hpp"
+#include "event_queue.hpp"
 
 #include <gtest/gtest.h>
 

@@ -8,7 +8,7 @@
 //    an untouched copy;
 //  - a call that is valid, however extreme, returns quickly and leaves a valid simulation whose
 //    discs stay finite as it advances.
-#include "billiard/simulation.hpp"
+#include "billiard/engine/simulation.hpp"
 #include "helpers.hpp"
 
 #include <gtest/gtest.h>

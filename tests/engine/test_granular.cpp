@@ -1,7 +1,7 @@
 // Granular gases (normal restitution < 1): the collision rules of the granular model, a bed
 // settling under gravity, a freely cooling gas against Haff's law, the three-disc inelastic
 // collapse, and a run that does get stuck (model off) leaving a valid state.
-#include "billiard/simulation.hpp"
+#include "billiard/engine/simulation.hpp"
 #include "helpers.hpp"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // Stage 2: uniform gravity. Free fall and bounces with known times, the quartic circular wall,
 // and conservation of kinetic plus potential energy.
-#include "billiard/simulation.hpp"
+#include "billiard/engine/simulation.hpp"
 #include "helpers.hpp"
 
 #include <gtest/gtest.h>

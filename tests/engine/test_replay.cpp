@@ -1,8 +1,8 @@
-// Replay (billiard/replay.hpp): walking a recorded run forward event by event and at fixed
+// Replay (billiard/engine/replay.hpp): walking a recorded run forward event by event and at fixed
 // time steps gives states without overlaps that end at the live run's state, and replay_at
 // (which starts a new Replay each time) agrees with one Replay walked forward. Tolerance 1e-12: the states are extrapolated from different records, so they
 // differ by rounding only.
-#include "billiard/replay.hpp"
+#include "billiard/engine/replay.hpp"
 
 #include "helpers.hpp"
 

@@ -1,5 +1,5 @@
 // Stage 5: rough discs, unequal masses and radii, restitution.
-#include "billiard/simulation.hpp"
+#include "billiard/engine/simulation.hpp"
 #include "helpers.hpp"
 
 #include <gtest/gtest.h>

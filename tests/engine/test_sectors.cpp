@@ -1,8 +1,8 @@
 // Stage 4: cells. The run with cells must give the same first events as the run without them
 // (one cell holding everything, i.e. all pairs), until rounding differences grow, and the same
 // statistics afterwards. Also: three discs touching at once.
-#include "billiard/sectors.hpp"
-#include "billiard/simulation.hpp"
+#include "sectors.hpp"
+#include "billiard/engine/simulation.hpp"
 #include "helpers.hpp"
 
 #include <gtest/gtest.h>

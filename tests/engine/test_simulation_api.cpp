@@ -1,7 +1,7 @@
 // The public API: bad input refused with std::invalid_argument naming the disc and the value
 // (state unchanged after a refused call), advancing by events or duration, the event log and
 // its replays, N = 0 and N = 1.
-#include "billiard/simulation.hpp"
+#include "billiard/engine/simulation.hpp"
 #include "helpers.hpp"
 
 #include <gtest/gtest.h>

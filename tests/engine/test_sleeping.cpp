@@ -2,7 +2,7 @@
 // hops instead of stalling), sleeping discs (a slow disc held up falls asleep; a slow hit bounces
 // off a sleeper, a fast one wakes it), and the bed the issue was about: a box whose rows of discs
 // fill it exactly, which used to cost ever more collisions per unit of time.
-#include "billiard/simulation.hpp"
+#include "billiard/engine/simulation.hpp"
 #include "helpers.hpp"
 
 #include <gtest/gtest.h>

@@ -4,7 +4,7 @@
 // changed are checked against every disc near them (set_check_event_discs: inside, in their
 // cells, no overlap beyond 1e-9 of a radius, next event not in the past); every 10^7 collisions
 // the whole system with validate() (which also checks the queue); and energy at the end.
-#include "billiard/simulation.hpp"
+#include "billiard/engine/simulation.hpp"
 
 #include <gtest/gtest.h>
 

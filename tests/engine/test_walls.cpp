@@ -1,5 +1,5 @@
 // Stage 3: straight walls with end points, boxes, polygons and the periodic box.
-#include "billiard/simulation.hpp"
+#include "billiard/engine/simulation.hpp"
 #include "helpers.hpp"
 
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
-// Collision impulses. See billiard/collide.hpp for the formula and its source.
-#include "billiard/collide.hpp"
+// Collision impulses. See billiard/engine/collide.hpp for the formula and its source.
+#include "billiard/engine/collide.hpp"
 
 namespace billiard {
 

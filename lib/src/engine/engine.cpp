@@ -12,7 +12,7 @@
 // last update and moved only when an event touches it.
 #include "engine.hpp"
 
-#include "billiard/time_of_impact.hpp"
+#include "billiard/engine/time_of_impact.hpp"
 #include "describe.hpp"
 
 #include <algorithm>
@@ -49,25 +49,13 @@ void Simulation::Engine::link(int i, int cx, int cy) {
 void Simulation::Engine::unlink(int i) { remove_disc(grid, cell_of_disc(hot[i]), i); }
 
 void Simulation::Engine::prepare() {
-  if (!has_table && !periodic && outlines.empty()) {
+  if (!container.closed()) {
     throw std::logic_error("advance: no container; call set_circular_table, set_periodic_box, add_box or add_polygon first");
   }
   const int n = static_cast<int>(hot.size());
-  // Region covered by the cells: the period, or the bounding box of all walls.
+  // Region covered by the cells: every place a centre can reach.
   Vec2 lower, upper;
-  if (periodic) {
-    lower = Vec2::Zero();
-    upper = period;
-  } else {
-    lower = Vec2::Constant(kNever);
-    upper = Vec2::Constant(-kNever);
-    for (const Wall& wall : walls) {
-      const double r = wall.kind == WallKind::Circle ? wall.radius : 0.0;
-      const Vec2 b = wall.kind == WallKind::Segment ? wall.b : wall.a;
-      lower = lower.cwiseMin(wall.a.cwiseMin(b) - Vec2::Constant(r));
-      upper = upper.cwiseMax(wall.a.cwiseMax(b) + Vec2::Constant(r));
-    }
-  }
+  container.bounds(lower, upper);
   const Vec2 extent = upper - lower;
   // Cell size. At least one largest diameter, so that contacts are between neighbouring cells.
   // Automatic choice: about one disc per cell on average (side 1/sqrt(number density)), which
@@ -84,19 +72,16 @@ void Simulation::Engine::prepare() {
   }
   // Memory stays linear in N: at most about 4 cells per disc (plus a few for tiny systems).
   side = std::max(side, std::sqrt(extent.x() * extent.y() / (4.0 * n + 64)));
-  if (periodic) side = std::min(side, std::min(extent.x(), extent.y()) / 3);
-  grid = make_grid(lower, extent, side, periodic);
+  if (container.periodic) side = std::min(side, std::min(extent.x(), extent.y()) / 3);
+  grid = make_grid(lower, extent, side, container.periodic);
   if (n > 0) set_capacity(grid, capacity_for(grid, min_radius));
 
-  assign_walls(grid, walls, max_radius * (1 + 1e-6) + 1e-12 * extent.norm());
+  assign_walls(grid, container.walls, max_radius * (1 + 1e-6) + 1e-12 * extent.norm());
 
   now = 0.0;
   for (int i = 0; i < n; ++i) {
     HotDisc& d = hot[i];
-    if (periodic) {
-      d.position.x() -= period.x() * std::floor(d.position.x() / period.x());
-      d.position.y() -= period.y() * std::floor(d.position.y() / period.y());
-    }
+    d.position = container.wrap(d.position);
     const int cell = cell_of(grid, d.position);
     link(i, cell % grid.nx, cell / grid.nx);
   }
@@ -152,6 +137,7 @@ inline void test_pair(const BigVector<HotDisc>& hot, const Vec2& gravity, int i,
       s.contact_time = t;
       s.partner = j;
       s.partner_counter = o.counter;
+      s.wall = kNoWall;
     }
     return;
   }
@@ -181,6 +167,7 @@ inline void test_pair(const BigVector<HotDisc>& hot, const Vec2& gravity, int i,
     s.contact_time = t;
     s.partner = j;
     s.partner_counter = o.counter;
+    s.wall = kNoWall;
   }
 }
 
@@ -209,12 +196,12 @@ void Simulation::Engine::scan_cell(int i, int cx, int cy, const Vec2& r, const V
   Vec2 shift = Vec2::Zero();
   if (cx < 0 || cx >= grid.nx) {
     if (!grid.periodic) return;
-    shift.x() = cx < 0 ? -period.x() : period.x();
+    shift.x() = cx < 0 ? -container.period.x() : container.period.x();
     cx = cx < 0 ? cx + grid.nx : cx - grid.nx;
   }
   if (cy < 0 || cy >= grid.ny) {
     if (!grid.periodic) return;
-    shift.y() = cy < 0 ? -period.y() : period.y();
+    shift.y() = cy < 0 ? -container.period.y() : container.period.y();
     cy = cy < 0 ? cy + grid.ny : cy - grid.ny;
   }
   const int c = cx + grid.nx * cy;
@@ -242,10 +229,10 @@ void Simulation::Engine::scan_walls(int cell, const Vec2& r, const Vec2& v, doub
   if (!cell_has_walls(grid, cell)) return;  // (most cells: no read of wall_ranges)
   for (int k = cell_walls_begin(grid, cell), end = cell_walls_end(grid, cell); k < end; ++k) {
     const int w = grid.wall_items[k];
-    const double t = now + wall_time(walls[w], r, v, radius);
+    const double t = now + wall_time(container.walls[w], r, v, radius);
     if (t < s.contact_time) {
       s.contact_time = t;
-      s.partner = kWall;
+      s.partner = kNoDisc;
       s.wall = w;
     }
   }
@@ -271,27 +258,23 @@ void Simulation::Engine::set_crossing(int i) {
     const double ty = straight_face_time(d.position.y(), vy, lo.y(), hi.y());
     const int back_x = !(vx > 0), back_y = !(vy > 0), y_first = !(tx <= ty);
     s.crossing_time = d.time + std::min(tx, ty);
-    s.crossing = back_x + y_first * (2 + back_y - back_x);
+    s.crossing = static_cast<Face>(back_x + y_first * (2 + back_y - back_x));  // (the order of Face)
     return;
   }
   const CellExit exit = cell_exit_time(d.position, d.velocity, gravity, lo, hi);
   s.crossing_time = d.time + exit.time;
-  s.crossing = 2 * exit.axis + (exit.direction > 0 ? 0 : 1);
+  s.crossing = static_cast<Face>(2 * exit.axis + (exit.direction > 0 ? 0 : 1));
 }
 
-// What disc i's next event will read and write, kept as its queue entry's tag so that the loop
-// can prefetch it a few events ahead: 8 c + k, where k is the crossing's direction (0..3, as
-// Scheduled::crossing) and c the cell it enters, or k = 4 and c the disc's own cell for a contact;
-// -1 (no hint) if the grid has too many cells for that code.
+// The hint for disc i's next event (see EventHint).
 int Simulation::Engine::event_tag(int i) const {
   const HotDisc& d = hot[i];
   const Scheduled& s = scheduled[i];
-  if (grid.nx * static_cast<std::int64_t>(grid.ny) > (std::int64_t{1} << 27)) return -1;
-  if (s.crossing_time > s.contact_time) return 8 * cell_of_disc(d) + 4;
-  const int k = s.crossing;
-  const int cx = std::clamp(d.cx + step_x(k), 0, grid.nx - 1);
-  const int cy = std::clamp(d.cy + step_y(k), 0, grid.ny - 1);
-  return 8 * (cx + grid.nx * cy) + k;
+  if (grid.nx * static_cast<std::int64_t>(grid.ny) > (std::int64_t{1} << 27)) return EventHint::kNoHint;
+  if (s.crossing_time > s.contact_time) return EventHint::contact(cell_of_disc(d));
+  const int cx = std::clamp(d.cx + step_x(s.crossing), 0, grid.nx - 1);
+  const int cy = std::clamp(d.cy + step_y(s.crossing), 0, grid.ny - 1);
+  return EventHint::crossing(cx + grid.nx * cy, s.crossing);
 }
 
 void Simulation::Engine::schedule(int i) {
@@ -314,14 +297,14 @@ void Simulation::Engine::prefetch_block(int c) const {
 
 namespace {
 
-// The cells a crossing into cell c in direction k (see event_tag) touches: the cell left, the cell
-// entered and the row of three cells that becomes adjacent (clamped to the grid: hints only).
+// The cells a crossing into cell c through `face` touches: the cell left, the cell entered and the
+// row of three cells that becomes adjacent (clamped to the grid: hints only).
 struct CrossingCells {
   int left, entered, row[3];
 };
-CrossingCells crossing_cells(const Grid& grid, int c, int k) {
-  const int step = step_x(k) + step_y(k) * grid.nx;  // to the next cell in direction k
-  const int across = step_x(k) != 0 ? grid.nx : 1;    // along the row that becomes adjacent
+CrossingCells crossing_cells(const Grid& grid, int c, Face face) {
+  const int step = step_x(face) + step_y(face) * grid.nx;  // to the next cell through the face
+  const int across = step_x(face) != 0 ? grid.nx : 1;      // along the row that becomes adjacent
   const int last = grid.nx * grid.ny - 1;
   const int centre = c + step;
   return {std::clamp(c - step, 0, last), c,
@@ -336,13 +319,13 @@ CrossingCells crossing_cells(const Grid& grid, int c, int k) {
 void Simulation::Engine::prefetch_event(int i, int tag) const {
   prefetch_line(&scheduled[i]);
   prefetch_line(&hot[i]);
-  if (tag < 0) return;
-  const int c = tag >> 3, k = tag & 7;
-  if (k == 4) {
+  if (tag == EventHint::kNoHint) return;
+  const int c = EventHint::cell(tag);
+  if (EventHint::is_contact(tag)) {
     prefetch_block(c);
     return;
   }
-  const CrossingCells cells = crossing_cells(grid, c, k);
+  const CrossingCells cells = crossing_cells(grid, c, EventHint::face(tag));
   for (int cell : {cells.left, cells.entered, cells.row[0], cells.row[1], cells.row[2]}) {
     prefetch_line(&grid.records[static_cast<std::size_t>(cell) * 4]);
   }
@@ -352,14 +335,14 @@ void Simulation::Engine::prefetch_event(int i, int tag) const {
 // prefetch_event a few events ago): the 3 x 3 block around the cell of a contact, the new row of
 // a crossing.
 void Simulation::Engine::prefetch_neighbours(int tag) const {
-  if (tag < 0) return;
-  const int c = tag >> 3, k = tag & 7;
+  if (tag == EventHint::kNoHint) return;
+  const int c = EventHint::cell(tag);
   auto fetch = [&](int cell) {
     const int* items = cell_discs(grid, cell);
     for (int m = 0, count = cell_disc_count(grid, cell); m < count; ++m) prefetch_line(&hot[items[m]]);
   };
-  if (k != 4) {
-    const CrossingCells cells = crossing_cells(grid, c, k);
+  if (!EventHint::is_contact(tag)) {
+    const CrossingCells cells = crossing_cells(grid, c, EventHint::face(tag));
     for (int cell : cells.row) fetch(cell);
     return;
   }
@@ -421,7 +404,8 @@ void Simulation::Engine::predict_gathered(int i, const int* list, int m) {
   advance_disc(d, now);
   Scheduled& s = scheduled[i];
   s.contact_time = kNever;
-  s.partner = kNoPartner;
+  s.partner = kNoDisc;
+  s.wall = kNoWall;
   if (asleep(d)) {  // (no events until woken)
     s.crossing_time = kNever;
     if (prepared) schedule(i);
@@ -445,17 +429,16 @@ void Simulation::Engine::cross(int i) {
   HotDisc& d = hot[i];
   Scheduled& s = scheduled[i];
   advance_disc(d, now);
-  const int k = s.crossing;
-  const int axis = k >> 1;
-  const int direction = 1 - 2 * (k & 1);
-  int cx = d.cx + step_x(k);
-  int cy = d.cy + step_y(k);
+  const Face face = s.crossing;
+  const int axis = axis_of(face);
+  int cx = d.cx + step_x(face);
+  int cy = d.cy + step_y(face);
   if (cx < 0 || cx >= grid.nx || cy < 0 || cy >= grid.ny) {
     // Only a periodic grid has finite outer faces: wrap the disc to the other side.
     int& moved = axis == 0 ? cx : cy;
     const int count = axis == 0 ? grid.nx : grid.ny;
     moved = moved < 0 ? count - 1 : 0;
-    d.position[axis] -= direction * period[axis];
+    d.position[axis] -= direction_of(face) * container.period[axis];
   }
   assert(cx >= 0 && cx < grid.nx && cy >= 0 && cy < grid.ny);
   unlink(i);
@@ -471,7 +454,7 @@ void Simulation::Engine::cross(int i) {
   const Vec2 v = d.velocity;
   // Its centre cell and the step along it; inside the grid (almost always), its three records
   // are read directly, else cell by cell with the bounds checks and periodic images.
-  const int rx = cx + step_x(k), ry = cy + step_y(k);
+  const int rx = cx + step_x(face), ry = cy + step_y(face);
   const int along = axis == 0 ? grid.nx : 1;
   if (rx - axis >= 0 && rx + axis < grid.nx && ry - (1 - axis) >= 0 && ry + (1 - axis) < grid.ny) {
     int* list = scratch(0);
@@ -494,7 +477,7 @@ void Simulation::Engine::collide_pair(int i, int j) {
   HotDisc& b = hot[j];
   advance_disc(a, now);
   advance_disc(b, now);
-  const Vec2 dr = minimum_image(b.position - a.position);  // from i to j
+  const Vec2 dr = container.minimum_image(b.position - a.position);  // from i to j
   const double speed_i = a.velocity.norm(), speed_j = b.velocity.norm();
   Vec2 q;
   if (smooth_elastic) {
@@ -527,19 +510,10 @@ void Simulation::Engine::collide_pair(int i, int j) {
   }
 }
 
-// The shortest of the vectors equal to dr up to whole periods (dr itself without a period).
-Vec2 Simulation::Engine::minimum_image(Vec2 dr) const {
-  if (periodic) {
-    dr.x() -= period.x() * std::round(dr.x() / period.x());
-    dr.y() -= period.y() * std::round(dr.y() / period.y());
-  }
-  return dr;
-}
-
 void Simulation::Engine::collide_wall(int i, int w) {
   HotDisc& d = hot[i];
   advance_disc(d, now);
-  const Wall& wall = walls[w];
+  const Wall& wall = container.walls[w];
   // Contact normal from the disc centre towards the wall.
   const Vec2 normal = wall.kind == WallKind::Circle ? Vec2(d.position - wall.a) : Vec2(closest_point(wall, d.position) - d.position);
   // A disc found a rounding error into the wall is put back on it. Under gravity a disc resting
@@ -699,7 +673,7 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
     } else {
       const int w = s.wall;
       collide_wall(i, w);
-      if (logging) record(EventKind::DiscWall, i, kWall, w);
+      if (logging) record(EventKind::DiscWall, i, kWallHit, w);
       predict_full(i);
       ++result.wall_collisions;
       if (sleep_speed > 0) try_to_sleep(i);
@@ -734,10 +708,7 @@ State Simulation::Engine::state_now() const {
   for (int i = 0; i < n; ++i) {
     HotDisc d = hot[i];
     advance_disc(d, now);
-    if (periodic) {
-      d.position.x() -= period.x() * std::floor(d.position.x() / period.x());
-      d.position.y() -= period.y() * std::floor(d.position.y() / period.y());
-    }
+    d.position = container.wrap(d.position);
     state.positions.row(i) = d.position.transpose();
     state.velocities.row(i) = d.velocity.transpose();
     state.spins[i] = cold[i].spin;
@@ -762,29 +733,16 @@ std::string Simulation::Engine::disc_problem(int i, double tolerance, const Vec2
   const HotDisc& d = hot[i];
   const int cell_i = cell_of_disc(d);
   const double slack = tolerance * d.radius;
-  // Inside the container and off every wall.
-  if (has_table && ri.norm() > table_radius - d.radius + slack) {
-    return describe("disc ", i, " outside the table: |r| = ", ri.norm(), " > R - a = ", table_radius - d.radius);
-  }
-  if (!outlines.empty()) {
-    int inside = 0;
-    for (const Points& outline : outlines) inside += inside_polygon(outline, ri) ? 1 : 0;
-    if (inside % 2 == 0) return describe("disc ", i, " at (", ri.x(), ", ", ri.y(), ") outside the walls");
-  }
-  const auto wall_problem = [&](int w) -> std::string {
-    const Wall& wall = walls[w];
-    if (wall.kind == WallKind::Circle) return "";
-    const double distance = (closest_point(wall, ri) - ri).norm();
-    if (distance >= d.radius - slack) return "";
-    return describe("disc ", i, " overlaps wall ", w, ": distance ", distance, " < radius ", d.radius);
-  };
-  const bool few_walls = walls.size() <= 64;
-  const int first_wall = few_walls ? 0 : cell_walls_begin(grid, cell_i);
-  const int end_wall = few_walls ? static_cast<int>(walls.size()) : cell_walls_end(grid, cell_i);
-  for (int k = first_wall; k < end_wall; ++k) {
-    std::string found = wall_problem(few_walls ? k : grid.wall_items[k]);
-    if (!found.empty()) return found;
-  }
+  // Inside the container and off every wall (those listed in its cell, when there are many).
+  const std::string who = describe("disc ", i);
+  const std::string outside = container.outside(ri, d.radius, slack);
+  if (!outside.empty()) return who + " " + outside;
+  const bool few_walls = container.walls.size() <= 64;
+  const int first_wall = cell_walls_begin(grid, cell_i);
+  const auto on_wall = few_walls ? container.overlapped_wall(ri, d.radius, slack)
+                                 : container.overlapped_wall(ri, d.radius, slack, grid.wall_items.data() + first_wall,
+                                                             cell_walls_end(grid, cell_i) - first_wall);
+  if (on_wall) return wall_overlap_message(who, ri, on_wall->wall, on_wall->clearance, d.radius);
   // In its cell (up to rounding).
   Vec2 lo, hi;
   cell_bounds(grid, cell_i, lo, hi);

@@ -2,12 +2,13 @@
 // Not part of the public API (tests may include it on purpose).
 #pragma once
 
-#include "billiard/collide.hpp"
-#include "billiard/disc.hpp"
-#include "billiard/event_queue.hpp"
-#include "billiard/sectors.hpp"
-#include "billiard/simulation.hpp"
-#include "billiard/wall.hpp"
+#include "billiard/engine/collide.hpp"
+#include "billiard/engine/disc.hpp"
+#include "billiard/engine/simulation.hpp"
+#include "billiard/engine/wall.hpp"
+#include "container.hpp"
+#include "event_queue.hpp"
+#include "sectors.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -18,12 +19,28 @@
 
 namespace billiard {
 
-inline constexpr int kNoPartner = -2;  // Scheduled::partner when no contact is predicted
+// The face of its cell a disc leaves through. The cell steps come by arithmetic: a face is random
+// in a gas, and a branch or switch on it would be mispredicted most of the time.
+enum class Face : int { PlusX, MinusX, PlusY, MinusY };
+inline int face_code(Face f) { return static_cast<int>(f); }
+inline int axis_of(Face f) { return face_code(f) >> 1; }             // 0: x, 1: y
+inline int direction_of(Face f) { return 1 - 2 * (face_code(f) & 1); }  // +1 or -1
+inline int step_x(Face f) { return (f == Face::PlusX) - (f == Face::MinusX); }
+inline int step_y(Face f) { return (f == Face::PlusY) - (f == Face::MinusY); }
 
-// Cell steps of a crossing in direction k (Scheduled::crossing: 0 +x, 1 -x, 2 +y, 3 -y), by
-// arithmetic: k is random, and a branch or switch on it is mispredicted most of the time.
-inline int step_x(int k) { return (k == 0) - (k == 1); }
-inline int step_y(int k) { return (k == 2) - (k == 3); }
+// What a queued event will read, kept as its queue entry's tag so that the loop can prefetch it a
+// few events ahead: for a crossing, the cell it enters and the face; for a contact, the disc's own
+// cell. Packed as 8 cell + code (code 0..3 a face, 4 a contact); kNoHint when the grid has too many
+// cells for that code.
+struct EventHint {
+  static constexpr int kNoHint = -1;
+  static constexpr int kContact = 4;
+  static int contact(int cell) { return 8 * cell + kContact; }
+  static int crossing(int entered, Face face) { return 8 * entered + face_code(face); }
+  static int cell(int tag) { return tag >> 3; }
+  static bool is_contact(int tag) { return (tag & 7) == kContact; }
+  static Face face(int tag) { return static_cast<Face>(tag & 7); }
+};
 
 // The hot state of one disc: everything the event loop reads for a pair test, a crossing or a
 // smooth elastic collision. 64 bytes, one cache line (checked by a static_assert in engine.cpp).
@@ -62,10 +79,10 @@ struct ColdDisc {
 struct Scheduled {
   double contact_time;   // absolute time, kNever if none
   double crossing_time;  // absolute time
-  int partner;           // disc index, kWall for a wall, kNoPartner for none
-  int partner_counter;   // the partner's collision counter at prediction (discs only)
-  int wall;              // wall index when partner == kWall
-  int crossing;          // 2 * axis + (direction > 0 ? 0 : 1)
+  int partner;           // the disc of the contact, or kNoDisc (a wall, or no contact)
+  int partner_counter;   // the partner's collision counter at prediction
+  int wall;              // the wall of the contact, or kNoWall (a disc, or no contact)
+  Face crossing;         // the face of the crossing
 };
 
 // The queue's view of the keys: a disc's key is the earlier of its contact and its crossing.
@@ -86,12 +103,7 @@ struct SetupHash {
 
 struct Simulation::Engine {
   // ---- setup ----
-  std::vector<Wall> walls;
-  std::vector<Points> outlines;  // closed boxes and polygons, for the inside test
-  bool has_table = false;
-  double table_radius = 0.0;
-  bool periodic = false;
-  Vec2 period = Vec2::Zero();
+  Container container;
   Vec2 gravity = Vec2::Zero();
   bool has_gravity = false;
   Restitution restitution;
@@ -108,7 +120,7 @@ struct Simulation::Engine {
   double cell_size = 0.0;  // 0: automatic
 
   // ---- discs ----
-  BigVector<HotDisc> hot;         // huge pages when large: see billiard/memory.hpp
+  BigVector<HotDisc> hot;         // huge pages when large: see memory.hpp
   BigVector<ColdDisc> cold;
   BigVector<Scheduled> scheduled;
   double max_radius = 0.0;
@@ -159,7 +171,6 @@ struct Simulation::Engine {
   void collide_pair(int i, int j);
   void collide_wall(int i, int wall);
   Restitution restitution_of(double approach_speed, double last_i, double last_j) const;
-  Vec2 minimum_image(Vec2 dr) const;
   // Under gravity, the distance from a disc's centre at which it meets fixed things (see
   // Simulation::kFixedContactSlack).
   double fixed_reach(double radius) const { return has_gravity ? radius * (1 - kFixedContactSlack) : radius; }
@@ -209,10 +220,10 @@ void Simulation::Engine::for_each_near(int i, Visit visit) const {
       Vec2 shift = Vec2::Zero();
       if (x < 0 || x >= grid.nx || y < 0 || y >= grid.ny) {
         if (!grid.periodic) continue;
-        if (x < 0) { x += grid.nx; shift.x() = -period.x(); }
-        if (x >= grid.nx) { x -= grid.nx; shift.x() = period.x(); }
-        if (y < 0) { y += grid.ny; shift.y() = -period.y(); }
-        if (y >= grid.ny) { y -= grid.ny; shift.y() = period.y(); }
+        if (x < 0) { x += grid.nx; shift.x() = -container.period.x(); }
+        if (x >= grid.nx) { x -= grid.nx; shift.x() = container.period.x(); }
+        if (y < 0) { y += grid.ny; shift.y() = -container.period.y(); }
+        if (y >= grid.ny) { y -= grid.ny; shift.y() = container.period.y(); }
       }
       const int cell = x + grid.nx * y;
       const int* items = cell_discs(grid, cell);

@@ -1,6 +1,8 @@
-// Replay of a recorded run (billiard/replay.hpp). Uses only the public Simulation API.
-#include "billiard/replay.hpp"
+// Replay of a recorded run (billiard/engine/replay.hpp). Reads the run through the public
+// Simulation API.
+#include "billiard/engine/replay.hpp"
 
+#include "container.hpp"
 #include "describe.hpp"
 
 #include <cmath>
@@ -47,11 +49,7 @@ State Replay::state_at(double t) const {
     Vec2 r = last_.positions.row(i).transpose();
     const Vec2 v = last_.velocities.row(i).transpose();
     r += dt * (v + 0.5 * dt * gravity_);
-    if (period_.x() > 0) {
-      r.x() -= period_.x() * std::floor(r.x() / period_.x());
-      r.y() -= period_.y() * std::floor(r.y() / period_.y());
-    }
-    state.positions.row(i) = r.transpose();
+    state.positions.row(i) = wrap_into_period(r, period_).transpose();
     state.velocities.row(i) = (v + dt * gravity_).transpose();
   }
   return state;

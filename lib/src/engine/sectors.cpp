@@ -1,5 +1,5 @@
-// Sectors: the uniform grid of cells. See billiard/sectors.hpp.
-#include "billiard/sectors.hpp"
+// Sectors: the uniform grid of cells. See sectors.hpp.
+#include "sectors.hpp"
 
 #include <algorithm>
 #include <cmath>

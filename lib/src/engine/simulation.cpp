@@ -1,8 +1,8 @@
 // The public Simulation: input checks at the API boundary, setup, state accessors and replay.
 // The event loop itself is in engine.cpp.
-#include "billiard/simulation.hpp"
+#include "billiard/engine/simulation.hpp"
 
-#include "billiard/replay.hpp"
+#include "billiard/engine/replay.hpp"
 #include "describe.hpp"
 #include "engine.hpp"
 
@@ -35,18 +35,6 @@ bool in_scale(double x) { return x >= kSmallest && x <= kLargest; }
 // 1e-9 radius: a disc smaller than this fraction of the coordinates it moves among would overlap
 // discs and cross walls by rounding alone (far smaller, it escapes through the walls).
 constexpr double kRelativeRadius = 1e-6;
-
-// The largest coordinate of the container and the walls (table, periodic box, the end points of
-// segments, boxes and polygons). Every wall counts: the distance to a segment that reaches into
-// the table from 1e50 away is computed from its far end point, and loses all its digits.
-double container_extent(const Simulation::Engine& e) {
-  double extent = e.has_table ? e.table_radius : 0.0;
-  if (e.periodic) extent = std::max(extent, e.period.maxCoeff());
-  for (const Wall& wall : e.walls) {
-    if (wall.kind != WallKind::Circle) extent = std::max({extent, wall.a.cwiseAbs().maxCoeff(), wall.b.cwiseAbs().maxCoeff()});
-  }
-  return extent;
-}
 
 void require_setup(const Simulation::Engine& e, const char* call) {
   if (e.prepared) {
@@ -93,17 +81,13 @@ void Simulation::Engine::rebuild_setup_hash(double cell) {
 bool Simulation::Engine::overlaps_existing(const Vec2& position, double radius, int& other) const {
   if (hot.empty()) return false;
   auto overlap = [&](int j) {
-    Vec2 d = position - hot[j].position;
-    if (periodic) {
-      d.x() -= period.x() * std::round(d.x() / period.x());
-      d.y() -= period.y() * std::round(d.y() / period.y());
-    }
+    const Vec2 d = container.minimum_image(position - hot[j].position);
     const double contact = radius + hot[j].radius;
     return d.squaredNorm() < contact * contact;
   };
   const double h = setup_hash.cell;
   // In a periodic box an image across the boundary can overlap: check the wrapped positions too.
-  const int images = periodic ? 1 : 0;
+  const int images = container.periodic ? 1 : 0;
   // A disc much larger than the cells (cells sized by small discs added before) would scan more
   // cells than there are discs (a hang for a ratio of radii of 10^6): then test every disc.
   const double reach_cells = std::ceil((radius + max_radius) / h);
@@ -120,7 +104,7 @@ bool Simulation::Engine::overlaps_existing(const Vec2& position, double radius, 
   const int reach = static_cast<int>(reach_cells);
   for (int sy = -images; sy <= images; ++sy) {
     for (int sx = -images; sx <= images; ++sx) {
-      const Vec2 p = position + Vec2(sx * period.x(), sy * period.y());
+      const Vec2 p = position + Vec2(sx * container.period.x(), sy * container.period.y());
       const std::int64_t cx = hash_column(p.x(), h);
       const std::int64_t cy = hash_column(p.y(), h);
       for (std::int64_t y = cy - reach; y <= cy + reach; ++y) {
@@ -150,28 +134,13 @@ void Simulation::Engine::check_disc(const Disc& disc, int index) const {
   if (!bounded(disc.spin)) refuse(who + ": spin " + kBounded + ", got " + number(disc.spin));
   const Vec2& r = disc.position;
   const double a = disc.radius;
-  if (has_table && r.norm() > table_radius - a) {
-    refuse(who + ": position " + vec(r) + " is outside the table: |r| = " + number(r.norm()) + " > R - radius = " + number(table_radius - a));
+  const std::string outside = container.outside(r, a, 0.0);
+  if (!outside.empty()) refuse(who + " " + outside);
+  if (container.periodic && 6 * a > container.period.minCoeff()) {
+    refuse(who + ": radius " + number(a) + " is too large for the periodic box (need 6 radius <= " + number(container.period.minCoeff()) + ")");
   }
-  if (periodic) {
-    if (r.x() < 0 || r.x() >= period.x() || r.y() < 0 || r.y() >= period.y()) {
-      refuse(who + ": position " + vec(r) + " is outside the periodic box [0, " + number(period.x()) + ") x [0, " + number(period.y()) + ")");
-    }
-    if (6 * a > std::min(period.x(), period.y())) {
-      refuse(who + ": radius " + number(a) + " is too large for the periodic box (need 6 radius <= " + number(std::min(period.x(), period.y())) + ")");
-    }
-  }
-  if (!outlines.empty()) {
-    int inside = 0;
-    for (const Points& outline : outlines) inside += inside_polygon(outline, r) ? 1 : 0;
-    if (inside % 2 == 0) refuse(who + ": position " + vec(r) + " is outside the walls");
-  }
-  for (int w = 0; w < static_cast<int>(walls.size()); ++w) {
-    if (walls[w].kind == WallKind::Circle) continue;
-    const double distance = (closest_point(walls[w], r) - r).norm();
-    if (distance < a) refuse(who + ": at " + vec(r) + " overlaps wall " + std::to_string(w) + " (distance " + number(distance) + " < radius " + number(a) + ")");
-  }
-  const double extent = std::max(container_extent(*this), r.cwiseAbs().maxCoeff());
+  if (const auto overlap = container.overlapped_wall(r, a, 0.0)) refuse(wall_overlap_message(who, r, overlap->wall, overlap->clearance, a));
+  const double extent = std::max(container.extent(), r.cwiseAbs().maxCoeff());
   if (a < kRelativeRadius * extent) {
     refuse(who + ": radius " + number(a) + " is too small for coordinates up to " + number(extent) + ": radii must be at least 1e-6 of the coordinates");
   }
@@ -197,7 +166,7 @@ void Simulation::Engine::add_checked_disc(const Disc& disc) {
   c.slow_since = kNever;
   c.next_sleep_try = -kNever;
   cold.push_back(c);
-  scheduled.push_back(Scheduled{kNever, kNever, kNoPartner, 0, kNoWall, 0});
+  scheduled.push_back(Scheduled{kNever, kNever, kNoDisc, 0, kNoWall, Face::PlusX});
   const int i = static_cast<int>(hot.size()) - 1;
   min_radius = std::min(min_radius, disc.radius);
   if (disc.radius > max_radius) {
@@ -231,17 +200,17 @@ void Simulation::set_circular_table(double radius) {
   Engine& e = *engine_;
   require_setup(e, "set_circular_table");
   if (!(radius > 0) || !bounded(radius)) refuse("set_circular_table: radius must be positive, finite and at most 1e50, got " + number(radius));
-  if (e.has_table) refuse("set_circular_table: the table is already set (radius " + number(e.table_radius) + ")");
-  if (e.periodic) refuse("set_circular_table: a periodic box has no walls; choose one container");
+  if (e.container.has_table) refuse("set_circular_table: the table is already set (radius " + number(e.container.table_radius) + ")");
+  if (e.container.periodic) refuse("set_circular_table: a periodic box has no walls; choose one container");
   check_extent(e, radius, "set_circular_table");
   for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
     if (e.hot[i].position.norm() > radius - e.hot[i].radius) {
       refuse("set_circular_table: radius " + number(radius) + " leaves disc " + std::to_string(i) + " at " + vec(e.hot[i].position) + " outside");
     }
   }
-  e.has_table = true;
-  e.table_radius = radius;
-  e.walls.push_back(Wall{WallKind::Circle, Vec2::Zero(), Vec2::Zero(), radius});
+  e.container.has_table = true;
+  e.container.table_radius = radius;
+  e.container.walls.push_back(Wall{WallKind::Circle, Vec2::Zero(), Vec2::Zero(), radius});
 }
 
 void Simulation::set_periodic_box(double width, double height) {
@@ -249,7 +218,7 @@ void Simulation::set_periodic_box(double width, double height) {
   require_setup(e, "set_periodic_box");
   if (!(width > 0) || !bounded(width)) refuse("set_periodic_box: width must be positive, finite and at most 1e50, got " + number(width));
   if (!(height > 0) || !bounded(height)) refuse("set_periodic_box: height must be positive, finite and at most 1e50, got " + number(height));
-  if (!e.walls.empty() || e.periodic) refuse("set_periodic_box: the periodic box must be the only container (walls or a box are already set)");
+  if (!e.container.walls.empty() || e.container.periodic) refuse("set_periodic_box: the periodic box must be the only container (walls or a box are already set)");
   check_extent(e, std::max(width, height), "set_periodic_box");
   for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
     const Vec2& r = e.hot[i].position;
@@ -260,8 +229,8 @@ void Simulation::set_periodic_box(double width, double height) {
   if (6 * e.max_radius > std::min(width, height)) {
     refuse("set_periodic_box: the box " + number(width) + " x " + number(height) + " must be at least 6 largest radii (" + number(6 * e.max_radius) + ") wide");
   }
-  e.periodic = true;
-  e.period = Vec2(width, height);
+  e.container.periodic = true;
+  e.container.period = Vec2(width, height);
   e.rebuild_setup_hash(e.setup_hash.cell > 0 ? e.setup_hash.cell : 1.0);
   // Discs added before may overlap through the boundary.
   for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
@@ -272,8 +241,8 @@ void Simulation::set_periodic_box(double width, double height) {
     const bool bad = e.overlaps_existing(saved.position, saved.radius, other) && other != i;
     e.hot[i] = saved;
     if (bad) {
-      e.periodic = false;
-      e.period = Vec2::Zero();
+      e.container.periodic = false;
+      e.container.period = Vec2::Zero();
       refuse("set_periodic_box: disc " + std::to_string(i) + " overlaps disc " + std::to_string(other) + " across the periodic boundary");
     }
   }
@@ -286,7 +255,7 @@ int Simulation::add_segment(const Vec2& a, const Vec2& b) {
   if (!bounded(b)) refuse(std::string("add_segment: b ") + kBounded + ", got " + vec(b));
   // (So close that the squared length underflows, the segment has no direction.)
   if (!((a - b).squaredNorm() > 0)) refuse("add_segment: a and b must differ, got " + vec(a) + " and " + vec(b));
-  if (e.periodic) refuse("add_segment: walls inside a periodic box are not supported");
+  if (e.container.periodic) refuse("add_segment: walls inside a periodic box are not supported");
   check_extent(e, std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()), "add_segment");
   const Wall segment{WallKind::Segment, a, b, 0.0};
   for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
@@ -295,12 +264,12 @@ int Simulation::add_segment(const Vec2& a, const Vec2& b) {
       refuse("add_segment: segment " + vec(a) + "-" + vec(b) + " overlaps disc " + std::to_string(i) + " at " + vec(e.hot[i].position));
     }
   }
-  const int index = static_cast<int>(e.walls.size());
-  e.walls.push_back(segment);
+  const int index = static_cast<int>(e.container.walls.size());
+  e.container.walls.push_back(segment);
   for (const Vec2& p : {a, b}) {
     bool known = false;
-    for (const Wall& w : e.walls) known = known || (w.kind == WallKind::Point && w.a == p);
-    if (!known) e.walls.push_back(Wall{WallKind::Point, p, p, 0.0});
+    for (const Wall& w : e.container.walls) known = known || (w.kind == WallKind::Point && w.a == p);
+    if (!known) e.container.walls.push_back(Wall{WallKind::Point, p, p, 0.0});
   }
   return index;
 }
@@ -319,23 +288,21 @@ void Simulation::add_polygon(const Points& vertices) {
     const Vec2 q = vertices.row((k + 1) % n).transpose();
     if (!((p - q).squaredNorm() > 0)) refuse("add_polygon: vertices " + std::to_string(k) + " and " + std::to_string((k + 1) % n) + " coincide at " + vec(p));
   }
-  if (e.periodic) refuse("add_polygon: walls inside a periodic box are not supported");
+  if (e.container.periodic) refuse("add_polygon: walls inside a periodic box are not supported");
   check_extent(e, vertices.cwiseAbs().maxCoeff(), "add_polygon");
   // All or nothing: check every disc against the new sides and the new inside test first.
-  std::vector<Points> outlines = e.outlines;
+  std::vector<Points> outlines = e.container.outlines;
   outlines.push_back(vertices);
   for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
     const Vec2& r = e.hot[i].position;
-    int inside = 0;
-    for (const Points& outline : outlines) inside += inside_polygon(outline, r) ? 1 : 0;
-    if (inside % 2 == 0) refuse("add_polygon: disc " + std::to_string(i) + " at " + vec(r) + " would be outside the walls");
+    if (!Container::inside_outlines(outlines, r)) refuse("add_polygon: disc " + std::to_string(i) + " at " + vec(r) + " would be outside the walls");
     for (int k = 0; k < n; ++k) {
       const double distance = distance_to_segment(r, vertices.row(k).transpose(), vertices.row((k + 1) % n).transpose());
       if (distance < e.hot[i].radius) refuse("add_polygon: side " + std::to_string(k) + " overlaps disc " + std::to_string(i) + " at " + vec(r));
     }
   }
   for (int k = 0; k < n; ++k) add_segment(vertices.row(k).transpose(), vertices.row((k + 1) % n).transpose());
-  e.outlines = std::move(outlines);
+  e.container.outlines = std::move(outlines);
 }
 
 void Simulation::add_box(const Vec2& lower, const Vec2& upper) {
@@ -491,36 +458,22 @@ int Simulation::add_random_discs(int n, double radius, double mass, double kT, s
   if (!in_scale(mass)) refuse(std::string("add_random_discs: mass ") + kScale + ", got " + number(mass));
   if (!(kT >= 0) || !bounded(kT)) refuse("add_random_discs: kT must be >= 0, finite and at most 1e50, got " + number(kT));
 
-  // Where centres may lie: the container's bounding box.
-  Vec2 lo, hi;
-  if (e.periodic) {
-    lo = Vec2::Zero();
-    hi = e.period;
-  } else if (e.has_table) {
-    lo = Vec2::Constant(-e.table_radius);
-    hi = Vec2::Constant(e.table_radius);
-  } else if (!e.outlines.empty()) {
-    lo = Vec2::Constant(kNever);
-    hi = Vec2::Constant(-kNever);
-    for (const Points& outline : e.outlines) {
-      for (Eigen::Index k = 0; k < outline.rows(); ++k) {
-        lo = lo.cwiseMin(outline.row(k).transpose());
-        hi = hi.cwiseMax(outline.row(k).transpose());
-      }
-    }
-  } else {
+  if (!e.container.closed()) {
     refuse("add_random_discs: set a closed container first (a circular table, a box, a polygon or a periodic box)");
   }
-  const double extent = container_extent(e);
+  Vec2 lo, hi;  // where centres may lie
+  e.container.bounds(lo, hi);
+  const double extent = e.container.extent();
   if (radius < kRelativeRadius * extent) {
     refuse("add_random_discs: radius " + number(radius) + " is too small for the container's coordinates up to " + number(extent) +
            ": radii must be at least 1e-6 of the coordinates");
   }
-  // Equal discs in a convex region of area A (the table, or the bounding box of the walls) or in
+  // Equal discs in a convex region of area A (the table, or the bounding box of the outlines) or in
   // a periodic box number at most A / (2 sqrt(3) radius^2) + 1 (Thue; Groemer's bound for finite
   // packings): refuse more at once, instead of spending the placement budgets below on them (60 n
   // tries: hours for n near 2^31).
-  const double area = e.has_table ? M_PI * e.table_radius * e.table_radius : (hi.x() - lo.x()) * (hi.y() - lo.y());
+  double area = (hi - lo).cwiseMax(0.0).prod();
+  if (e.container.has_table) area = std::min(area, M_PI * e.container.table_radius * e.container.table_radius);
   const double most = area / (2 * std::sqrt(3.0) * radius * radius) + 1;
   if (n > most) {
     refuse("add_random_discs: n = " + std::to_string(n) + " discs of radius " + number(radius) + " cannot fit in the container (area " +
@@ -552,7 +505,7 @@ int Simulation::add_random_discs(int n, double radius, double mass, double kT, s
     int placed = 0;
     while (placed < n && budget-- > 0) {
       Vec2 p(ux(rng), uy(rng));
-      if (e.periodic) p = p.cwiseMin(e.period * (1 - 1e-15));
+      if (e.container.periodic) p = p.cwiseMin(e.container.period * (1 - 1e-15));
       if (try_place(p)) ++placed;
     }
     if (placed < n) {
@@ -572,19 +525,19 @@ int Simulation::add_random_discs(int n, double radius, double mass, double kT, s
       }
       int columns = static_cast<int>(std::ceil((hi.x() - lo.x()) / dx)) + 1;
       int rows = static_cast<int>(std::ceil((hi.y() - lo.y()) / dy)) + 1;
-      if (e.periodic) {
-        columns = static_cast<int>(std::floor(e.period.x() / spacing));
-        rows = 2 * static_cast<int>(std::floor(e.period.y() / (2 * dy)));  // even: rows alternate
+      if (e.container.periodic) {
+        columns = static_cast<int>(std::floor(e.container.period.x() / spacing));
+        rows = 2 * static_cast<int>(std::floor(e.container.period.y() / (2 * dy)));  // even: rows alternate
         if (columns < 1 || rows < 2) refuse("add_random_discs: the periodic box is too small for discs of radius " + number(radius));
-        dx = e.period.x() / columns;
-        dy = e.period.y() / rows;
+        dx = e.container.period.x() / columns;
+        dy = e.container.period.y() / rows;
         offset = offset.cwiseMin(Vec2(dx, dy) * 0.999);
       }
       std::vector<Vec2> sites;
       for (int row = 0; row < rows; ++row) {
         for (int column = 0; column < columns; ++column) {
           Vec2 p = lo + offset + Vec2(column * dx + (row % 2) * dx / 2, row * dy);
-          if (e.periodic) p = Vec2(std::fmod(p.x(), e.period.x()), std::fmod(p.y(), e.period.y()));
+          if (e.container.periodic) p = Vec2(std::fmod(p.x(), e.container.period.x()), std::fmod(p.y(), e.container.period.y()));
           sites.push_back(p);
         }
       }
@@ -628,7 +581,7 @@ const State& Simulation::initial_state() const {
   if (!e.prepared) e.initial = e.state_now();
   return e.initial;
 }
-const std::vector<Wall>& Simulation::walls() const { return engine_->walls; }
+const std::vector<Wall>& Simulation::walls() const { return engine_->container.walls; }
 Totals Simulation::totals() const { return engine_->totals; }
 
 double Simulation::kinetic_energy() const {
@@ -688,9 +641,9 @@ std::vector<int> Simulation::sleeping_discs() const {
   }
   return found;
 }
-bool Simulation::periodic() const { return engine_->periodic; }
-Vec2 Simulation::period() const { return engine_->periodic ? engine_->period : Vec2::Zero(); }
-double Simulation::table_radius() const { return engine_->has_table ? engine_->table_radius : 0.0; }
+bool Simulation::periodic() const { return engine_->container.periodic; }
+Vec2 Simulation::period() const { return engine_->container.periodic ? engine_->container.period : Vec2::Zero(); }
+double Simulation::table_radius() const { return engine_->container.has_table ? engine_->container.table_radius : 0.0; }
 
 int Simulation::cell_count() const { return engine_->prepared ? engine_->grid.nx * engine_->grid.ny : 0; }
 
@@ -698,7 +651,7 @@ void Simulation::enable_event_log(bool on) { engine_->logging = on; }
 void Simulation::clear_event_log() { engine_->log.clear(); }
 const std::vector<EventRecord>& Simulation::event_log() const { return engine_->log; }
 
-// Replays rebuild states from the initial state and the log (billiard/replay.hpp).
+// Replays rebuild states from the initial state and the log (billiard/engine/replay.hpp).
 State Simulation::replay_after_event(std::size_t k) const {
   const Engine& e = *engine_;
   if (k >= e.log.size()) refuse("replay_after_event: k must be < the log size " + std::to_string(e.log.size()) + ", got " + std::to_string(k));

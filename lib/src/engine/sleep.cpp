@@ -88,9 +88,7 @@ void Simulation::Engine::try_to_sleep(int i) {
     const int cell = cell_of_disc(d);
     if (!held && cell_has_walls(grid, cell)) {
       for (int w = cell_walls_begin(grid, cell), end = cell_walls_end(grid, cell); w < end && !held; ++w) {
-        const Wall& wall = walls[grid.wall_items[w]];
-        held = wall.kind == WallKind::Circle ? (d.position - wall.a).norm() >= wall.radius - d.radius - gap
-                                             : (closest_point(wall, d.position) - d.position).norm() <= d.radius + gap;
+        held = wall_clearance(container.walls[grid.wall_items[w]], d.position, d.radius) <= gap;
       }
     }
     for_each_near(m, [&](int j, const Vec2& shift) {
@@ -128,7 +126,8 @@ void Simulation::Engine::try_to_sleep(int i) {
     Scheduled& s = scheduled[m];
     s.contact_time = kNever;
     s.crossing_time = kNever;
-    s.partner = kNoPartner;
+    s.partner = kNoDisc;
+    s.wall = kNoWall;
     schedule(m);
     if (logging) record(EventKind::Sleep, m, kNoOther, kNoWall);
   }
@@ -149,7 +148,7 @@ void Simulation::Engine::predict_around(const std::vector<int>& discs) {
 bool Simulation::Engine::hit_wakes(int i, int j) const {
   HotDisc d = hot[i];
   advance_disc(d, now);
-  const Vec2 sigma = minimum_image(hot[j].position - d.position).normalized();
+  const Vec2 sigma = container.minimum_image(hot[j].position - d.position).normalized();
   return d.velocity.dot(sigma) >= sleep_speed;
 }
 

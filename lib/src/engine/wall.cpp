@@ -1,6 +1,6 @@
 // Geometry of walls: distances used to check input, to place walls in cells and to find the
 // contact normal.
-#include "billiard/wall.hpp"
+#include "billiard/engine/wall.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -4,7 +4,7 @@
 // (discs inside a circle). Walls have infinite mass and inertia.
 #pragma once
 
-#include "billiard/vec2.hpp"
+#include "billiard/engine/vec2.hpp"
 
 #include <vector>
 

@@ -7,7 +7,7 @@
 // I w += (lever x impulse). A wall is a body of infinite mass and inertia.
 #pragma once
 
-#include "billiard/vec2.hpp"
+#include "billiard/engine/vec2.hpp"
 
 namespace billiard {
 

@@ -22,10 +22,10 @@
 // (about 1e-16 relative per collision, a random walk).
 #pragma once
 
-#include "billiard/collide.hpp"
-#include "billiard/disc.hpp"
-#include "billiard/vec2.hpp"
-#include "billiard/wall.hpp"
+#include "billiard/engine/collide.hpp"
+#include "billiard/engine/disc.hpp"
+#include "billiard/engine/vec2.hpp"
+#include "billiard/engine/wall.hpp"
 
 #include <cstdint>
 #include <limits>

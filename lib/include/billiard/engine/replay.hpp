@@ -14,8 +14,8 @@
 // run advanced further while replaying is followed too).
 #pragma once
 
-#include "billiard/disc.hpp"
-#include "billiard/simulation.hpp"
+#include "billiard/engine/disc.hpp"
+#include "billiard/engine/simulation.hpp"
 
 #include <cstddef>
 #include <vector>

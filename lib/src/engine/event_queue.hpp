@@ -39,7 +39,7 @@
 // std::vector.
 #pragma once
 
-#include "billiard/memory.hpp"
+#include "memory.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -49,8 +49,6 @@
 #include <vector>
 
 namespace billiard {
-
-enum class EventKind : int { DiscDisc, DiscWall, CellCrossing, Sleep, Wake };
 
 // Keys held in a vector by the caller (tests, small tools).
 struct VectorKeys {

@@ -1,9 +1,7 @@
 // Discs and snapshots of the whole system.
 #pragma once
 
-#include "billiard/course.hpp"  // kWall, shared with the course contract
-#include "billiard/event_queue.hpp"
-#include "billiard/vec2.hpp"
+#include "billiard/engine/vec2.hpp"
 
 #include <Eigen/Core>
 
@@ -33,12 +31,16 @@ struct State {
   Eigen::VectorXd spins;    // N
 };
 
-// One recorded event (the event log): a collision, or a disc falling asleep or waking up (see
-// Simulation::set_sleep_speed). `other` is the second disc, or kWall (-1, as in the course) for a
-// wall hit, in which case `wall` is the wall's index (see Simulation::walls()), or kNoOther for
-// Sleep and Wake; wall = kNoWall unless a wall was hit. Positions and velocities are those just
-// after the event (at `time`); the other_* fields are zero unless `other` is a disc.
+// What a logged event was: a collision of two discs or of a disc with a wall, or a disc falling
+// asleep or waking up (see Simulation::set_sleep_speed).
+enum class EventKind : int { DiscDisc, DiscWall, Sleep, Wake };
+
+// One recorded event (the event log). `other` is the second disc; for a wall hit it is kWallHit
+// and `wall` is the wall's index (see Simulation::walls()); for Sleep and Wake it is kNoOther.
+// wall = kNoWall unless a wall was hit. Positions and velocities are those just after the event
+// (at `time`); the other_* fields are zero unless `other` is a disc.
 inline constexpr int kNoWall = -1;
+inline constexpr int kWallHit = -1;  // the same value as the course's kWall, so logs compare to it
 inline constexpr int kNoOther = -2;
 struct EventRecord {
   double time = 0.0;

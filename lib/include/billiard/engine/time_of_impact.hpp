@@ -9,7 +9,7 @@
 // Times are never shifted by epsilons.
 #pragma once
 
-#include "billiard/vec2.hpp"
+#include "billiard/engine/vec2.hpp"
 
 #include <algorithm>
 #include <cmath>

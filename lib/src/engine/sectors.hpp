@@ -2,12 +2,12 @@
 // centre; two discs can touch only if their cells are neighbours (cells are at least one
 // largest diameter wide), and a disc can touch a wall only if that wall is listed in the disc's
 // own cell (each cell lists the walls within one largest radius of it). Leaving a cell is an
-// event (EventKind::CellCrossing). Periodic grids wrap around.
+// event of the loop (a crossing, see engine.cpp). Periodic grids wrap around.
 #pragma once
 
-#include "billiard/memory.hpp"
-#include "billiard/vec2.hpp"
-#include "billiard/wall.hpp"
+#include "memory.hpp"
+#include "billiard/engine/vec2.hpp"
+#include "billiard/engine/wall.hpp"
 
 #include <vector>
 
