@@ -582,16 +582,84 @@ void Simulation::Engine::record(EventKind kind, int i, int other, int wall) {
   log.push_back(e);
 }
 
+// Events at one instant are normal in small numbers (corners, three discs touching); more than
+// stuck_limit means the dynamics cannot go on (resting contact under gravity, inelastic collapse).
+// "One instant" is a relative 1e-10 of the time: a collapse can also crawl on by a rounding step
+// per event. Checked before the event is popped, so that a stop leaves every disc's event queued.
+bool Simulation::Engine::stuck_at_instant(double time, AdvanceResult& result) {
+  const std::int64_t stuck_limit = 1000 + 20 * static_cast<std::int64_t>(hot.size());
+  if (time > instant + kInstant * std::abs(instant)) {
+    events_at_instant = 0;
+    instant = time;
+    return false;
+  }
+  if (++events_at_instant <= stuck_limit) return false;
+  result.stuck = true;
+  result.stuck_reason = describe("stuck at time ", now, ": more than ", stuck_limit,
+                                 " events at that instant (within ", kInstant, " of the time; discs resting on "
+                                 "each other or on a wall under gravity, or an inelastic collapse); the state is valid");
+  return true;
+}
+
+// The event after this one is most likely the heap's next current entry (unless this event
+// reschedules a disc earlier): start loading its disc, its cells and its partner now, so that
+// those cache misses overlap with the work on this event. (Its schedule was prefetched when its
+// bucket moved into the heap.) `changing`: the partner of this event, whose entry for the same
+// collision is not the next event. 87% of the guesses are right at N = 10^6, area fraction 0.5.
+void Simulation::Engine::prefetch_upcoming(int changing) {
+  const auto* next = queue.upcoming(changing);
+  if (next == nullptr) return;
+  prefetch_neighbours(next->tag);
+  const Scheduled& upcoming = scheduled[next->disc];
+  if (upcoming.partner == kNoDisc) return;
+  prefetch_line(&hot[upcoming.partner]);  // (a crossing also reads its counter)
+  if (!smooth_elastic && upcoming.contact_time < upcoming.crossing_time) {
+    prefetch_line(&cold[upcoming.partner]);
+    prefetch_line(&cold[next->disc]);
+  }
+}
+
+// A collision of discs i and j, now: wake j if the hit is hard enough, apply the impulse,
+// predict both again, and let them fall asleep if they are slow.
+void Simulation::Engine::handle_disc_collision(int i, int j, AdvanceResult& result) {
+  if (asleep(hot[j]) && hit_wakes(i, j)) wake(j);
+  collide_and_predict(i, j);
+  if (logging) record(EventKind::DiscDisc, i, j, kNoWall);
+  ++result.disc_collisions;
+  if (sleep_speed > 0) {
+    try_to_sleep(i);
+    try_to_sleep(j);
+  }
+}
+
+void Simulation::Engine::handle_wall_collision(int i, int wall, AdvanceResult& result) {
+  collide_wall(i, wall);
+  if (logging) record(EventKind::DiscWall, i, kWallHit, wall);
+  predict_full(i);
+  ++result.wall_collisions;
+  if (sleep_speed > 0) try_to_sleep(i);
+}
+
+// The checks switched on by set_validate_every_event or set_check_event_discs, after a collision
+// of disc i (and disc j, or kNoDisc); false when they found a problem (kept in `problem`).
+bool Simulation::Engine::checks_pass(int i, int j) {
+  if (validate_every_event) {
+    problem = check();
+  } else {
+    problem = disc_problem(i, 1e-9, nullptr);
+    if (problem.empty() && j != kNoDisc) problem = disc_problem(j, 1e-9, nullptr);
+  }
+  return problem.empty();
+}
+
 AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_duration) {
   if (!prepared) prepare();
   AdvanceResult result;
   const double start = now;
   const double end = now + max_duration;
-  // Events at one instant are normal in small numbers (corners, three discs touching); this many
-  // means the dynamics cannot go on (resting contact under gravity, inelastic collapse). "One
-  // instant" is a relative 1e-10 of the time: a collapse can also crawl on by a rounding step per
-  // event.
-  const std::int64_t stuck_limit = 1000 + 20 * static_cast<std::int64_t>(hot.size());
+  // Without a duration limit, a system where no collision can ever happen (discs moving in
+  // parallel in a periodic box) would cross cells forever: stop after this many crossings in a
+  // row, far more than any gas needs between two collisions.
   const std::int64_t crossing_limit = 1000000 + 1000 * static_cast<std::int64_t>(hot.size());
   std::int64_t crossings_in_a_row = 0;
   while (result.collisions < max_events && !hot.empty()) {
@@ -600,51 +668,18 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
       if (end < kNever) now = end;
       break;
     }
-    // (Checked before the pop, so that a stop leaves every disc's event in the queue.)
-    if (top.time <= instant + kInstant * std::abs(instant)) {
-      if (++events_at_instant > stuck_limit) {
-        result.stuck = true;
-        result.stuck_reason = describe("stuck at time ", now, ": more than ", stuck_limit,
-                                       " events at that instant (within ", kInstant, " of the time; discs resting on "
-                                       "each other or on a wall under gravity, or an inelastic collapse); the state is valid");
-        break;
-      }
-    } else {
-      events_at_instant = 0;
-      instant = top.time;
-    }
+    if (stuck_at_instant(top.time, result)) break;
     queue.pop();
     const int i = top.disc;
-    Scheduled& s = scheduled[i];
-    // A collision (not a crossing, and its partner has not collided since the prediction) changes
-    // the partner's key too: the partner's entry for this same collision, often the heap's next,
-    // is not the next event.
+    const Scheduled& s = scheduled[i];
     const bool crossing = s.crossing_time <= s.contact_time;
-    const int changing = !crossing && s.partner >= 0 && hot[s.partner].counter == s.partner_counter ? s.partner : -1;
-    if (const auto* next = prefetch_ahead ? queue.upcoming(changing) : nullptr) {
-      // The event after this one is most likely the heap's next current entry (unless this event
-      // reschedules a disc earlier): start loading its disc, its cells and its partner now, so
-      // that those cache misses overlap with the work on this event. (Its schedule was
-      // prefetched when its bucket moved into the heap.) 87% of the guesses are right at
-      // N = 10^6, area fraction 0.5; most of the rest follow a refill.
-      const int k = next->disc;
-      prefetch_neighbours(next->tag);
-      const Scheduled& upcoming = scheduled[k];
-      if (upcoming.partner >= 0) {
-        prefetch_line(&hot[upcoming.partner]);  // (a crossing also reads its counter)
-        if (!smooth_elastic && upcoming.contact_time < upcoming.crossing_time) {
-          prefetch_line(&cold[upcoming.partner]);
-          prefetch_line(&cold[k]);
-        }
-      }
-    }
+    // The partner of a collision that is still current: its key changes with this event.
+    const int changing = !crossing && s.partner != kNoDisc && hot[s.partner].counter == s.partner_counter ? s.partner : kNoDisc;
+    if (prefetch_ahead) prefetch_upcoming(changing);
     now = top.time;
     if (crossing) {
       cross(i);
       ++result.cell_crossings;
-      // Without a duration limit, a system where no collision can ever happen (discs moving in
-      // parallel in a periodic box) would cross cells forever: stop after this many crossings
-      // in a row, far more than any gas needs between two collisions.
       if (++crossings_in_a_row > crossing_limit && end == kNever) {
         result.stuck = true;
         result.stuck_reason = describe("stuck at time ", now, ": ", crossing_limit,
@@ -655,39 +690,19 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
       continue;
     }
     crossings_in_a_row = 0;
-    const int j = s.partner;  // (s is the next prediction once the event is handled)
-    if (j >= 0) {
-      if (changing != j) {  // j collided since: stale
-        ++result.stale_events;
-        predict_full(i);
-        continue;
-      }
-      if (asleep(hot[j]) && hit_wakes(i, j)) wake(j);
-      collide_and_predict(i, j);
-      if (logging) record(EventKind::DiscDisc, i, j, kNoWall);
-      ++result.disc_collisions;
-      if (sleep_speed > 0) {
-        try_to_sleep(i);
-        try_to_sleep(j);
-      }
-    } else {
-      const int w = s.wall;
-      collide_wall(i, w);
-      if (logging) record(EventKind::DiscWall, i, kWallHit, w);
+    const int j = s.partner;  // (s becomes the next prediction once the event is handled)
+    if (j != kNoDisc && changing != j) {  // j collided since the prediction: stale
+      ++result.stale_events;
       predict_full(i);
-      ++result.wall_collisions;
-      if (sleep_speed > 0) try_to_sleep(i);
+      continue;
+    }
+    if (j != kNoDisc) {
+      handle_disc_collision(i, j, result);
+    } else {
+      handle_wall_collision(i, s.wall, result);
     }
     ++result.collisions;
-    if (validate_every_event | check_event_discs) {  // (one test per event when neither is on)
-      if (validate_every_event) {
-        problem = check();
-      } else {
-        problem = disc_problem(i, 1e-9, nullptr);
-        if (problem.empty() && j >= 0) problem = disc_problem(j, 1e-9, nullptr);
-      }
-      if (!problem.empty()) break;
-    }
+    if ((validate_every_event | check_event_discs) && !checks_pass(i, j)) break;
   }
   // No discs: no event ever comes, so the duration passes.
   if (hot.empty() && max_events > 0 && end < kNever) now = end;

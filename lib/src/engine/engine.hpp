@@ -161,6 +161,12 @@ struct Simulation::Engine {
   // Event loop (engine.cpp).
   void prepare();
   AdvanceResult advance(std::int64_t max_events, double max_duration);
+  // The steps of advance.
+  bool stuck_at_instant(double time, AdvanceResult& result);
+  void prefetch_upcoming(int changing);
+  void handle_disc_collision(int i, int j, AdvanceResult& result);
+  void handle_wall_collision(int i, int wall, AdvanceResult& result);
+  bool checks_pass(int i, int j);
   void advance_disc(HotDisc& d, double t) const;
   void predict_full(int i);
   void collide_and_predict(int i, int j);

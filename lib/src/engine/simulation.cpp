@@ -450,6 +450,75 @@ int Simulation::add_discs(const Points& positions, const Points& velocities, dou
   return first;
 }
 
+namespace {
+
+// The steps of add_random_discs. 1. Random sequential addition: uniform and independent places in
+// [lo, hi], as long as there is room (60 tries a disc); returns how many were placed.
+template <class TryPlace>
+int place_at_random(int n, const Vec2& lo, const Vec2& hi, const Container& container, std::mt19937_64& rng,
+                    TryPlace try_place) {
+  std::uniform_real_distribution<double> ux(lo.x(), hi.x()), uy(lo.y(), hi.y());
+  long long budget = 60LL * n + 1000;
+  int placed = 0;
+  while (placed < n && budget-- > 0) {
+    Vec2 p(ux(rng), uy(rng));
+    if (container.periodic) p = p.cwiseMin(container.period * (1 - 1e-15));
+    if (try_place(p)) ++placed;
+  }
+  return placed;
+}
+
+// 2. Too dense for random addition: the sites of a triangular lattice with spacing just above a
+// diameter (fitted to the period in a periodic box, so that it closes), shuffled. It melts within
+// a few collisions per disc. `placed_at_random` is only for the message.
+std::vector<Vec2> lattice_sites(int n, int placed_at_random, double radius, const Vec2& lo, const Vec2& hi,
+                                const Container& container, std::mt19937_64& rng) {
+  const double spacing = 2 * radius * (1 + 1e-9);
+  double dx = spacing, dy = spacing * std::sqrt(3.0) / 2;
+  Vec2 offset(std::uniform_real_distribution<double>(0, dx)(rng), std::uniform_real_distribution<double>(0, dy)(rng));
+  // The sites cover the bounding box, which can be far larger than a thin polygon inside it:
+  // refuse rather than fill the memory (or overflow the counts).
+  const double site_count = (std::ceil((hi.x() - lo.x()) / dx) + 1) * (std::ceil((hi.y() - lo.y()) / dy) + 1);
+  if (!(site_count <= 64.0 * n + 1e6)) {
+    refuse("add_random_discs: only " + std::to_string(placed_at_random) + " of n = " + std::to_string(n) + " discs of radius " +
+           number(radius) + " fit at random, and a lattice over the container's bounding box would need " + number(site_count) +
+           " sites; use fewer or larger discs");
+  }
+  int columns = static_cast<int>(std::ceil((hi.x() - lo.x()) / dx)) + 1;
+  int rows = static_cast<int>(std::ceil((hi.y() - lo.y()) / dy)) + 1;
+  if (container.periodic) {
+    columns = static_cast<int>(std::floor(container.period.x() / spacing));
+    rows = 2 * static_cast<int>(std::floor(container.period.y() / (2 * dy)));  // even: rows alternate
+    if (columns < 1 || rows < 2) refuse("add_random_discs: the periodic box is too small for discs of radius " + number(radius));
+    dx = container.period.x() / columns;
+    dy = container.period.y() / rows;
+    offset = offset.cwiseMin(Vec2(dx, dy) * 0.999);
+  }
+  std::vector<Vec2> sites;
+  for (int row = 0; row < rows; ++row) {
+    for (int column = 0; column < columns; ++column) {
+      const Vec2 p = lo + offset + Vec2(column * dx + (row % 2) * dx / 2, row * dy);
+      sites.push_back(container.periodic ? Vec2(std::fmod(p.x(), container.period.x()), std::fmod(p.y(), container.period.y())) : p);
+    }
+  }
+  std::shuffle(sites.begin(), sites.end(), rng);
+  return sites;
+}
+
+// 3. Velocities for n discs of one mass: Gaussian, no net momentum (n >= 2), kinetic energy
+// exactly n kT (2D: kT per disc).
+Eigen::Matrix<double, Eigen::Dynamic, 2> thermal_velocities(int n, double mass, double kT, std::mt19937_64& rng) {
+  std::normal_distribution<double> normal;
+  Eigen::Matrix<double, Eigen::Dynamic, 2> v(n, 2);
+  for (int k = 0; k < n; ++k) v.row(k) << normal(rng), normal(rng);
+  if (n >= 2) v.rowwise() -= v.colwise().mean();
+  const double energy = 0.5 * mass * v.squaredNorm();
+  if (energy > 0) v *= std::sqrt(n * kT / energy);
+  return v;
+}
+
+}  // namespace
+
 int Simulation::add_random_discs(int n, double radius, double mass, double kT, std::uint64_t seed) {
   Engine& e = *engine_;
   require_setup(e, "add_random_discs");
@@ -485,7 +554,7 @@ int Simulation::add_random_discs(int n, double radius, double mass, double kT, s
   const Engine saved = e;  // all or nothing
   std::mt19937_64 rng(seed);
   // A place is taken only if add_disc would accept it (inside, clear of walls and discs); the
-  // checks throw, so a rejected place costs an exception: the budgets below keep that bounded.
+  // checks throw, so a rejected place costs an exception: the budgets keep that bounded.
   auto try_place = [&](const Vec2& position) {
     Disc disc;
     disc.position = position;
@@ -499,51 +568,11 @@ int Simulation::add_random_discs(int n, double radius, double mass, double kT, s
     }
   };
   try {
-    // 1. Random sequential addition: uniform and independent, as long as there is room.
-    std::uniform_real_distribution<double> ux(lo.x(), hi.x()), uy(lo.y(), hi.y());
-    long long budget = 60LL * n + 1000;
-    int placed = 0;
-    while (placed < n && budget-- > 0) {
-      Vec2 p(ux(rng), uy(rng));
-      if (e.container.periodic) p = p.cwiseMin(e.container.period * (1 - 1e-15));
-      if (try_place(p)) ++placed;
-    }
+    int placed = place_at_random(n, lo, hi, e.container, rng, try_place);
     if (placed < n) {
-      // 2. Too dense for random addition: random sites of a triangular lattice with spacing
-      // just above a diameter (fitted to the period in a periodic box, so that it closes).
       e = saved;
-      const double spacing = 2 * radius * (1 + 1e-9);
-      double dx = spacing, dy = spacing * std::sqrt(3.0) / 2;
-      Vec2 offset(std::uniform_real_distribution<double>(0, dx)(rng), std::uniform_real_distribution<double>(0, dy)(rng));
-      // The sites cover the bounding box, which can be far larger than a thin polygon inside it:
-      // refuse rather than fill the memory (or overflow the counts).
-      const double site_count = (std::ceil((hi.x() - lo.x()) / dx) + 1) * (std::ceil((hi.y() - lo.y()) / dy) + 1);
-      if (!(site_count <= 64.0 * n + 1e6)) {
-        refuse("add_random_discs: only " + std::to_string(placed) + " of n = " + std::to_string(n) + " discs of radius " + number(radius) +
-               " fit at random, and a lattice over the container's bounding box would need " + number(site_count) +
-               " sites; use fewer or larger discs");
-      }
-      int columns = static_cast<int>(std::ceil((hi.x() - lo.x()) / dx)) + 1;
-      int rows = static_cast<int>(std::ceil((hi.y() - lo.y()) / dy)) + 1;
-      if (e.container.periodic) {
-        columns = static_cast<int>(std::floor(e.container.period.x() / spacing));
-        rows = 2 * static_cast<int>(std::floor(e.container.period.y() / (2 * dy)));  // even: rows alternate
-        if (columns < 1 || rows < 2) refuse("add_random_discs: the periodic box is too small for discs of radius " + number(radius));
-        dx = e.container.period.x() / columns;
-        dy = e.container.period.y() / rows;
-        offset = offset.cwiseMin(Vec2(dx, dy) * 0.999);
-      }
-      std::vector<Vec2> sites;
-      for (int row = 0; row < rows; ++row) {
-        for (int column = 0; column < columns; ++column) {
-          Vec2 p = lo + offset + Vec2(column * dx + (row % 2) * dx / 2, row * dy);
-          if (e.container.periodic) p = Vec2(std::fmod(p.x(), e.container.period.x()), std::fmod(p.y(), e.container.period.y()));
-          sites.push_back(p);
-        }
-      }
-      std::shuffle(sites.begin(), sites.end(), rng);
       placed = 0;
-      for (const Vec2& p : sites) {
+      for (const Vec2& p : lattice_sites(n, placed, radius, lo, hi, e.container, rng)) {
         if (placed == n) break;
         if (try_place(p)) ++placed;
       }
@@ -552,13 +581,7 @@ int Simulation::add_random_discs(int n, double radius, double mass, double kT, s
                number(radius) + " fit in the container; use fewer or smaller discs");
       }
     }
-    // Velocities: Gaussian, no net momentum, kinetic energy exactly n kT.
-    std::normal_distribution<double> normal;
-    Eigen::Matrix<double, Eigen::Dynamic, 2> v(n, 2);
-    for (int k = 0; k < n; ++k) v.row(k) << normal(rng), normal(rng);
-    if (n >= 2) v.rowwise() -= v.colwise().mean();
-    const double energy = 0.5 * mass * v.squaredNorm();
-    if (energy > 0) v *= std::sqrt(n * kT / energy);
+    const Eigen::Matrix<double, Eigen::Dynamic, 2> v = thermal_velocities(n, mass, kT, rng);
     for (int k = 0; k < n; ++k) e.hot[static_cast<std::size_t>(first + k)].velocity = v.row(k).transpose();
   } catch (...) {
     e = saved;
