@@ -18,7 +18,7 @@
 // run to --settle-time in quarters. It prints collisions per second and the collisions per disc
 // per unit of simulated time in each quarter, which fall to 0 once the bed has fallen asleep.
 // Rates are per second of this thread's CPU time (--wall: elapsed time instead). --memory prints,
-// instead, what this machine's memory does for one thread with arrays of the given sizes (MB),
+// instead, what the machine's memory does for one thread with arrays of the given sizes (MB),
 // allocated like the engine's: the latency of one random cache-line read that depends on the
 // one before, and how many independent random lines per second it delivers. Where the
 // engine's arrays outgrow the fast sizes, its cost per collision steps up.

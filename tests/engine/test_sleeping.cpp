@@ -1,6 +1,6 @@
 // Discs at rest under gravity: the fixed contact slack (a disc resting or sliding on a floor
 // hops instead of stalling), sleeping discs (a slow disc held up falls asleep; a slow hit bounces
-// off a sleeper, a fast one wakes it), and the bed the issue was about: a box whose rows of discs
+// off a sleeper, a fast one wakes it), and the hard case for sleeping: a box whose rows of discs
 // fill it exactly, which used to cost ever more collisions per unit of time.
 #include "billiard/engine/simulation.hpp"
 #include "helpers.hpp"
@@ -184,7 +184,7 @@ TEST(Sleeping, SleepSpeedZeroWakesEveryDiscAndRefusesBadValues) {
 
 namespace {
 
-// The bed of the issue: 200 discs of radius 1 in the box (0,0)-(40,40), which rows of 20 fill
+// The hard case: 200 discs of radius 1 in the box (0,0)-(40,40), which rows of 20 fill
 // exactly, g = (0, -1), seed 7. Without sleeping its bottom row's sideways rattling cost ever more
 // (restitution 0.5: 204, 738, 1153, ... 2282 collisions per disc per unit time in successive
 // quarters of t = 0..200). Now: to t = 200 with every collision's discs checked, the energy never

@@ -1,4 +1,4 @@
-// The long run the issue asks for: 10^8 collisions at N = 10 000 (area fraction 0.5, periodic
+// The long run: 10^8 collisions at N = 10 000 (area fraction 0.5, periodic
 // box) with no overlap and no stuck event. Label "stress" (left out of the default run): 75 s in
 // Release here (66 s without the per-collision checks). After every collision the discs it
 // changed are checked against every disc near them (set_check_event_discs: inside, in their

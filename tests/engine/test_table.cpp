@@ -88,7 +88,7 @@ TEST(Table, NoOverlapAfterEveryEventOfALongRandomRun) {
 
 TEST(Table, EnergyAndAngularMomentumAreConserved) {
   // 200 equal discs, 10^6 collisions. Rounding makes a random walk of ~1e-16 per event, so
-  // after 10^6 events about 1e-13 relative; the issue asks for 1e-12 per million events. The
+  // after 10^6 events about 1e-13 relative; the bound is 1e-12 per million events. The
   // angular momentum about the centre is conserved by wall hits (normal through the centre) and
   // by disc collisions; its rounding walk is larger (positions enter): 1e-9 relative.
   std::mt19937_64 rng(2);

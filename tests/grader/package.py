@@ -59,6 +59,7 @@ STUDENT_EXCLUDED = [
     "tests/grader/test_packages.py",  # ... and its tests
     "tests/grader/release_check.py",  # ... and the check of the exported release
     ".ci/",                           # the instructors' CI (it expects the reference solutions)
+    ".github/workflows/ci.yml",       # ... and the same CI on GitHub
 ]
 # README blocks only for instructors, removed from the student release (in every .md file).
 INSTRUCTORS_BLOCK = re.compile(r"<!-- instructors -->.*?<!-- /instructors -->\n?", re.DOTALL)

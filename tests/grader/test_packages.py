@@ -206,6 +206,19 @@ class StudentLoop(unittest.TestCase):
                 shutil.copyfile(REPO / "tasks" / f"{task}.cpp", folder / "tasks" / f"{task}.cpp")
 
 
+class ProjectCI(unittest.TestCase):
+    def test_ci_runs_the_readme_test_command_and_stays_out_of_the_release(self):
+        """GitHub's CI runs .ci/run, .ci/run runs the README's test command, and neither ships."""
+        workflow = yaml.safe_load((REPO / ".github/workflows/ci.yml").read_text())
+        steps = [step for job in workflow["jobs"].values() for step in job["steps"]]
+        self.assertIn(".ci/run", [step.get("run") for step in steps])
+        commands = [line for line in (REPO / ".ci/run").read_text().splitlines() if line and not line.startswith(("#", "set ", "cd "))]
+        self.assertEqual(commands, ["./build.sh test"])
+        self.assertIn("./build.sh test", (REPO / "README.md").read_text())
+        for path in [".ci/run", ".github/workflows/ci.yml"]:
+            self.assertTrue(package.excluded(path, package.STUDENT_EXCLUDED), f"{path} would ship to students")
+
+
 class Classroom(unittest.TestCase):
     def test_committed_workflow_is_the_generated_one(self):
         status, output = run(["/usr/bin/python3", str(HERE / "package.py"), "classroom", "--tests", str(TESTS), "--check"])

@@ -2,7 +2,7 @@
 // check the student's propagate one step at a time from many random states.
 //
 // It is deliberately computed differently from a straightforward solution: all arithmetic in
-// long double, the cancellation-free quadratic forms of the physics notes, touching and
+// long double, the cancellation-free quadratic forms of lib/PHYSICS.md, touching and
 // overlapping pairs (rounding) handled explicitly, and a circle on or outside the wall that
 // moves outward reflected at once. It reports every event within a small tie window of the
 // earliest one, each with the state it leads to, so that a student's code may process

@@ -103,7 +103,7 @@ def event_driven_float32(table_radius, radius, positions, velocities, events, co
     target: the <v^2> the correction restores; default: that of the start.
 
     Returns a History with events + 1 records. Time of impact formulas: the stable roots of
-    the physics notes (wall: |r + v t| = R - a; pair: |dr + dv t| = 2a).
+    lib/PHYSICS.md (wall: |r + v t| = R - a; pair: |dr + dv t| = 2a).
     """
     f32 = np.float32
     r, v = _checked_state(table_radius, radius, positions, velocities, f32)

@@ -60,7 +60,7 @@ void Simulation::Engine::prepare() {
   // Cell size. At least one largest diameter, so that contacts are between neighbouring cells.
   // Automatic choice: about one disc per cell on average (side 1/sqrt(number density)), which
   // at low density makes cells larger than a diameter and crossings rarer; measured with
-  // billiard_bench (see README-performance.md). Never fewer than 3 cells per periodic side
+  // billiard_bench (see lib/DESIGN.md). Never fewer than 3 cells per periodic side
   // (a neighbour must not be seen twice); set_periodic_box checks the period allows it.
   const double diameter = std::max(2 * max_radius, 1e-300);
   double side = diameter;
@@ -85,11 +85,10 @@ void Simulation::Engine::prepare() {
     const int cell = cell_of(grid, d.position);
     link(i, cell % grid.nx, cell / grid.nx);
   }
-  // Requesting the next event's lines a whole event ahead costs 7-13% where everything is in the
-  // caches (N = 10^3 to 3 x 10^4) and 3-6% at 5 x 10^4, gains 2-9% at 10^5, 15-20% at 2 x 10^5
-  // and 11-19% at 10^6 (billiard_bench, interleaved rounds; README-performance.md, sixth and
-  // seventh passes): on from 8 MB of states and schedules, about 87,000 discs, which is where the
-  // whole engine (~390 bytes per disc) outgrows this machine's 32 MB L3 cache.
+  // Requesting the next event's lines a whole event ahead is pure work where everything is in the
+  // caches and pays once the arrays outgrow them (lib/DESIGN.md): on from 8 MB of states and
+  // schedules, about 87,000 discs, where the whole engine (~390 bytes per disc) outgrows a
+  // typical last-level cache of a few tens of MB.
   constexpr double kCachedBytes = 8.0 * (1 << 20);
   prefetch_ahead = prefetch_mode == Simulation::Prefetch::On ||
                    (prefetch_mode == Simulation::Prefetch::Automatic &&

@@ -32,7 +32,7 @@
 // several events later. When a bucket is moved into the heap, the caller is told about the
 // entries the walk did not reach (entries filed after it passed were just computed by the caller,
 // their data still in its cache). Measured with billiard_bench, figures in
-// lib/src/engine/README-performance.md.
+// lib/DESIGN.md.
 //
 // Keys: a small copyable object with `double key(int disc) const` and
 // `void prefetch(int disc, int tag) const` (a hint; may do nothing). VectorKeys reads a

@@ -56,7 +56,7 @@ using BigVector = std::vector<T, BigArrayAllocator<T>>;
 // Asks the CPU to start loading the cache line that holds `p` (a hint: no fault, no wait). GCC 12
 // deletes __builtin_prefetch from a loop that does nothing else: the engine's prefetch of the
 // next event's neighbours, a loop over cell records, compiled to an empty function at -O3 and to
-// nothing at -O2 (found in the disassembly, 2026-11-24). On x86 with GCC or Clang the instruction
+// nothing at -O2 (seen in the disassembly). On x86 with GCC or Clang the instruction
 // is therefore written as volatile inline assembly, which the compiler must keep.
 inline void prefetch_line(const void* p) {
 #if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__))

@@ -26,8 +26,8 @@ struct Grid {
   // kHasWalls if walls are listed in the cell; then up to kInline disc indices, or, when the
   // cell holds more, the offset of its block in `spill`]. The event loop is memory-bound from
   // N ~ 10^5 on and reads a 3 x 3 block of records per prediction: small records put a row of
-  // three on one or two cache lines (64-byte records with room for the most discs that fit,
-  // as before, made it three). Cells with more than kInline discs are rare (about 0.7% at area
+  // three on one or two cache lines (64-byte records with room for more discs would make it
+  // three). Cells with more than kInline discs are rare (about 0.7% at area
   // fraction 0.1 with the automatic cell size) and keep their discs in a block of `capacity`
   // slots in `spill`. Fixed-size slots instead of linked lists, so that the loads of a cell's
   // discs are independent.

@@ -1,5 +1,5 @@
 // Collision rules: the impulse exchanged at contact between two discs, or a disc and a wall.
-// Physics notes, "General masses, rough discs" (after Pöschel & Schwager, Computational
+// lib/PHYSICS.md, "Collision rules" (after Pöschel & Schwager, Computational
 // Granular Dynamics, ch. 3): with sigma the unit vector from disc i to the contact and g the
 // relative velocity of the contact points, the impulse on i is
 //   Q = -(1 + e_n) mu (g.sigma) sigma - (1 + e_t) [1/mu + a_i^2/I_i + a_j^2/I_j]^-1 g_t,

@@ -55,7 +55,8 @@ struct AdvanceResult {
   std::string stuck_reason;  // what happened, when stuck; the state is valid and advance may go on
 };
 
-// Running totals since time 0, for pressure: PA = N kT + virial / (2 t) (physics notes) and the
+// Running totals since time 0, for pressure: PA = N kT + virial / (2 t) (lib/PHYSICS.md,
+// "Statistical physics") and the
 // momentum given to the walls per unit time and length.
 struct Totals {
   double wall_momentum = 0.0;  // sum of |impulse| given to walls

@@ -1,6 +1,6 @@
 // Time of impact: pure functions, each returning the smallest time t >= 0 at which two objects
 // moving freely (straight lines, or parabolas under a uniform gravity g) start touching, or
-// kNever if they never do. Derivations: physics notes (/work/shared/physics.md) and the
+// kNever if they never do. Derivations: lib/PHYSICS.md ("Time of impact") and the
 // comments in lib/src/engine/time_of_impact.cpp.
 //
 // Rounding convention, used everywhere: an object found a hair inside an obstacle (overlap of
