@@ -231,8 +231,8 @@ struct Xml {
   // Offset in the text of a name or value that points into the copy; -1 for any other string.
   std::ptrdiff_t offset_of(const char* name) const {
     const char* begin = buffer.data();
-    const std::less_equal<const char*> not_after;
-    return not_after(begin, name) && !not_after(begin + buffer.size(), name) ? name - begin : -1;
+    const std::less<const char*> before;  // defined for any two pointers, unlike <
+    return !before(name, begin) && before(name, begin + buffer.size()) ? name - begin : -1;
   }
 
   std::vector<char> buffer;
