@@ -29,6 +29,7 @@ packages=(
   cmake ninja-build g++          # the build
   libeigen3-dev                  # vectors and matrices
   libgtest-dev                   # the graded test suites
+  libpugixml-dev                 # the XML under the graded suites' SVG reader
   python3                        # the grader (tests/grader/grade.py), run as /usr/bin/python3
   python3-yaml                   # the instructors' packaging tests read YAML (GitHub workflows)
   make                           # the Autolab package's test runs its Makefile

@@ -5,11 +5,15 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <system_error>
 #include <utility>
+
+#include <pugixml.hpp>
 
 namespace billiard::testing {
 namespace {
@@ -71,47 +75,6 @@ std::vector<std::string> split_semicolons(std::string_view list) {
     start = end + 1;
   }
   return items;
-}
-
-// Decodes the five predefined XML entities and numeric character references (ASCII only; other
-// references are kept as written).
-std::string decode_entities(std::string_view raw) {
-  std::string out;
-  out.reserve(raw.size());
-  for (std::size_t i = 0; i < raw.size(); ++i) {
-    if (raw[i] != '&') {
-      out += raw[i];
-      continue;
-    }
-    const std::size_t semicolon = raw.find(';', i);
-    if (semicolon == std::string_view::npos || semicolon - i > 10) {
-      out += raw[i];
-      continue;
-    }
-    const std::string_view name = raw.substr(i + 1, semicolon - i - 1);
-    char replacement = 0;
-    if (name == "lt") replacement = '<';
-    else if (name == "gt") replacement = '>';
-    else if (name == "amp") replacement = '&';
-    else if (name == "quot") replacement = '"';
-    else if (name == "apos") replacement = '\'';
-    else if (name.size() > 1 && name[0] == '#') {
-      long code = -1;
-      const bool hex = name[1] == 'x' || name[1] == 'X';
-      const std::string_view digits = name.substr(hex ? 2 : 1);
-      const auto result = std::from_chars(digits.data(), digits.data() + digits.size(), code, hex ? 16 : 10);
-      if (result.ec == std::errc() && result.ptr == digits.data() + digits.size() && code > 0 && code < 128) {
-        replacement = static_cast<char>(code);
-      }
-    }
-    if (replacement == 0) {
-      out += raw[i];
-      continue;
-    }
-    out += replacement;
-    i = semicolon;
-  }
-  return out;
 }
 
 std::string local_name(std::string_view name) {
@@ -224,221 +187,335 @@ double parse_clock_value(std::string_view text) {
   return kNaN;
 }
 
+// --- The XML layer -------------------------------------------------------------------------------
+// pugixml reads the XML. What it tolerates but XML (and so a browser) refuses is checked here,
+// and its errors, a status and a byte offset, become messages with line numbers.
+
+// Every kind of node is kept (parse_full), and with parse_fragment also text outside the root
+// element, which pugixml would otherwise drop without a word. Whitespace-only text is not kept:
+// it is allowed anywhere.
+constexpr unsigned kParseOptions = pugi::parse_full | pugi::parse_fragment;
+
+// Line numbers (from 1) of byte offsets in the text.
+class Lines {
+ public:
+  explicit Lines(std::string_view text) {
+    for (std::size_t i = 0; i < text.size(); ++i) {
+      if (text[i] == '\n') newlines_.push_back(i);
+    }
+  }
+  int at(std::ptrdiff_t offset) const {
+    const std::size_t position = offset < 0 ? 0 : static_cast<std::size_t>(offset);
+    return static_cast<int>(std::lower_bound(newlines_.begin(), newlines_.end(), position) - newlines_.begin()) + 1;
+  }
+  // Line of an element's tag, a comment, ... (pugixml's offset of its name or value).
+  int of(const pugi::xml_node& node) const { return at(node.offset_debug()); }
+
+ private:
+  std::vector<std::size_t> newlines_;
+};
+
+// A text parsed by pugixml. It parses a copy in place, so the names and values of nodes and
+// attributes point into that copy, and an attribute's offset is where its name is. The copy ends
+// with a NUL: in place, pugixml otherwise takes over the last byte as the end mark, and text at the
+// very end (after the root element) would lose its last character.
+struct Xml {
+  explicit Xml(std::string_view text) : buffer(text.begin(), text.end()) {
+    buffer.push_back('\0');
+    // UTF-8 as written: no conversion, so that offsets are those of the file's bytes.
+    result = document.load_buffer_inplace(buffer.data(), buffer.size(), kParseOptions, pugi::encoding_utf8);
+  }
+  Xml(const Xml&) = delete;
+  Xml& operator=(const Xml&) = delete;
+
+  // Offset in the text of a name or value that points into the copy; -1 for any other string.
+  std::ptrdiff_t offset_of(const char* name) const {
+    const char* begin = buffer.data();
+    const std::less<const char*> before;  // defined for any two pointers, unlike <
+    return !before(name, begin) && before(name, begin + buffer.size()) ? name - begin : -1;
+  }
+
+  std::vector<char> buffer;
+  pugi::xml_document document;
+  pugi::xml_parse_result result;
+};
+
+bool starts_name(char ch) {
+  return std::isalpha(static_cast<unsigned char>(ch)) || ch == '_' || ch == ':' ||
+         static_cast<unsigned char>(ch) >= 0x80;
+}
+
+// The name written at `offset` (up to a space, '>', '/', '<' or the end), e.g. in an end tag.
+std::string name_at(std::string_view text, std::size_t offset) {
+  const std::size_t start = std::min(offset, text.size());
+  std::size_t end = start;
+  while (end < text.size() && !is_space(text[end]) && text[end] != '>' && text[end] != '/' && text[end] != '<') ++end;
+  return std::string(text.substr(start, end - start));
+}
+
+// Pre-order walk of the elements from `root` (itself included) without recursion, as a file may
+// nest deeply: visit(element, depth), depth 0 for `root`.
+template <typename Visit>
+void for_each_element(const pugi::xml_node& root, Visit visit) {
+  pugi::xml_node node = root;
+  int depth = 0;
+  for (;;) {
+    if (node.type() == pugi::node_element) {
+      visit(node, depth);
+      if (pugi::xml_node child = node.first_child()) {
+        node = child;
+        ++depth;
+        continue;
+      }
+    }
+    while (node != root && !node.next_sibling()) {
+      node = node.parent();
+      --depth;
+    }
+    if (node == root) return;
+    node = node.next_sibling();
+  }
+}
+
+// The element that was open when the parse stopped. pugixml keeps the tree it built up to an
+// error; the open elements are the last child at each level, from the top down, but the deepest
+// of those may be closed already. The open one is the element whose end tag, and its ancestors',
+// make the text before the error well-formed. An empty node if no element is open; nullopt if it
+// is not found within a few tries (each parses the text again; in practice the open element is
+// the deepest or close to it).
+std::optional<pugi::xml_node> innermost_open(std::string_view before, const pugi::xml_document& partial) {
+  constexpr std::size_t kMaxTries = 32;
+  std::vector<pugi::xml_node> chain;
+  for (pugi::xml_node node = partial.last_child(); node.type() == pugi::node_element; node = node.last_child()) {
+    chain.push_back(node);
+  }
+  const std::size_t shallowest = chain.size() > kMaxTries ? chain.size() - kMaxTries : 0;
+  for (std::size_t depth = chain.size(); depth-- > shallowest;) {
+    std::string closed(before);
+    for (std::size_t i = depth + 1; i-- > 0;) closed += str("</", chain[i].name(), ">");
+    if (Xml(closed).result) return chain[depth];
+  }
+  if (shallowest > 0) return std::nullopt;
+  return pugi::xml_node();
+}
+
+// The deepest last node of the partial tree: the one pugixml was reading when it stopped.
+pugi::xml_node last_read(const pugi::xml_document& partial) {
+  pugi::xml_node node = partial.last_child();
+  while (node.last_child()) node = node.last_child();
+  return node;
+}
+
+// Turns pugixml's error into a message for a student.
+[[noreturn]] void refuse_malformed(std::string_view text, const Lines& lines, const Xml& xml) {
+  const std::size_t at =
+      std::min(static_cast<std::size_t>(std::max<std::ptrdiff_t>(xml.result.offset, 0)), text.size());
+  const int line = lines.at(static_cast<std::ptrdiff_t>(at));
+  const pugi::xml_node last = last_read(xml.document);
+  const std::string element = last.type() == pugi::node_element ? last.name() : "";
+  const std::string in_tag = last.type() == pugi::node_declaration ? std::string("in the declaration <?xml ...?>")
+                             : element.empty()                     ? std::string("in a tag")
+                                                                   : str("in <", element, ">");
+  auto skip_spaces = [&text](std::size_t pos) {
+    while (pos < text.size() && is_space(text[pos])) ++pos;
+    return pos;
+  };
+  switch (xml.result.status) {
+    case pugi::status_unrecognized_tag:
+      fail_at(line,
+              "'<' is not followed by an element name, <!-- (a comment) or <? (a processing instruction); "
+              "a literal < in text must be written &lt;");
+    case pugi::status_bad_pi:
+      fail_at(line,
+              "a processing instruction <?...?> (such as the <?xml ...?> declaration) has no name right "
+              "after <? or is never closed with ?>");
+    case pugi::status_bad_comment:
+      fail_at(line, "a comment <!-- is never closed with -->");
+    case pugi::status_bad_cdata:
+      fail_at(line, "a CDATA section is misspelt (it is written <![CDATA[ ... ]]>) or never closed with ]]>");
+    case pugi::status_bad_doctype:
+      fail_at(line,
+              "a declaration <!DOCTYPE ...> is malformed or never closed with >; it may only come before "
+              "the <svg> element");
+    case pugi::status_bad_start_element:
+      if (text.find('>', at) == std::string_view::npos) {
+        fail_at(last ? lines.of(last) : line,
+                str("the tag <", element, " is never closed with > or />: the file ends inside it ",
+                    "(did the program stop writing early, or forget to close the file?)"));
+      }
+      if ((at > 0 && text[at - 1] == '/') || (at < text.size() && text[at] == '/')) {
+        fail_at(line, str(in_tag, ": '/' must be directly followed by '>' (an element without children is written <",
+                          element, " ... />)"));
+      }
+      fail_at(line, str(in_tag, ": unexpected character '", at < text.size() ? text[at] : ' ',
+                        "'; attribute names start with a letter, and a tag ends with > or />"));
+    case pugi::status_bad_attribute: {
+      const pugi::xml_attribute attribute = last.last_attribute();
+      const std::ptrdiff_t name_offset = attribute ? xml.offset_of(attribute.name()) : -1;
+      if (name_offset < 0) fail_at(line, str(in_tag, ": cannot read an attribute; write them as name=\"value\""));
+      const std::string name = attribute.name();
+      const int attribute_line = lines.at(name_offset);
+      std::size_t pos = skip_spaces(static_cast<std::size_t>(name_offset) + name.size());
+      if (pos >= text.size() || text[pos] != '=') {
+        fail_at(attribute_line, str(in_tag, ": the attribute ", name, " has no value (write ", name, "=\"...\")"));
+      }
+      pos = skip_spaces(pos + 1);
+      if (pos >= text.size() || (text[pos] != '"' && text[pos] != '\'')) {
+        fail_at(attribute_line, str(in_tag, ": the value of ", name, " must be in quotes, e.g. ", name, "=\"12.5\""));
+      }
+      const char quote = text[pos];
+      if (text.find(quote, pos + 1) == std::string_view::npos) {
+        fail_at(attribute_line,
+                str(in_tag, ": the value of ", name, " is never closed with the ", quote, " that opens it",
+                    text.find('>', pos) == std::string_view::npos
+                        ? ": the file ends inside it (did the program stop writing early?)"
+                        : ""));
+      }
+      // The value is complete: what follows it is wrong.
+      if (at < text.size() && starts_name(text[at])) {
+        fail_at(line, str(in_tag, ": attributes must be separated by a space, but the value of ", name,
+                          " is directly followed by ", name_at(text, at).substr(0, 40)));
+      }
+      fail_at(line, str(in_tag, ": unexpected character '", at < text.size() ? text[at] : ' ', "' after the value of ",
+                        name, "; a tag ends with > or />"));
+    }
+    case pugi::status_bad_end_element: {
+      const std::size_t open = text.rfind("</", at);
+      const std::string name = open == std::string_view::npos ? std::string() : name_at(text, open + 2);
+      if (text.find('>', at) == std::string_view::npos)
+        fail_at(line, str("the end tag </", name, " is never closed with >"));
+      fail_at(line,
+              str("the end tag </", name, " must be closed with > right after the name (end tags have no attributes)"));
+    }
+    case pugi::status_end_element_mismatch: {
+      // pugixml stops at the name of an end tag that does not match, or at the end of the file.
+      const bool end_tag = at >= 2 && text.substr(at - 2, 2) == "</";
+      // A file that ends inside that end tag ("</sv") is cut short, whatever the name says.
+      const bool cut_short = !end_tag || text.find('>', at) == std::string_view::npos;
+      auto open = innermost_open(text.substr(0, end_tag ? at - 2 : text.size()), xml.document);
+      if (!end_tag && open && !*open) {
+        // The file ends inside a tag ("</sv"): what was open before it.
+        const std::size_t last_tag = text.rfind('<');
+        if (last_tag != std::string_view::npos) open = innermost_open(text.substr(0, last_tag), xml.document);
+      }
+      if (!cut_short && open) {
+        const std::string name = name_at(text, at);
+        if (!*open) {
+          const pugi::xml_node closed_root =
+              xml.document.find_child([](const pugi::xml_node& node) { return node.type() == pugi::node_element; });
+          fail_at(line, str("</", name, "> has no matching <", name, "> before it",
+                            closed_root ? str(" (<", closed_root.name(), "> was closed before it)") : ""));
+        }
+        fail_at(line, str("</", name, "> closes <", open->name(), "> (opened on line ", lines.of(*open),
+                          "): tags must be closed in the reverse order they were opened, and an element without "
+                          "children is written <",
+                          open->name(), " ... />"));
+      }
+      if (cut_short && open && *open) {
+        fail_at(lines.of(*open), str("<", open->name(), "> is never closed: the file ends before its </", open->name(),
+                                     "> (did the program stop writing early, or forget to close the file?)"));
+      }
+      fail_at(line,
+              "start and end tags do not match here: each <name ...> needs its </name>, closed in the reverse "
+              "order of opening (or written <name ... /> without children)");
+    }
+    default:
+      fail_at(line, str("the XML reader cannot read the file here: ", xml.result.description()));
+  }
+}
+
+// Checks what pugixml accepts but a browser refuses (text, CDATA or a second element outside the
+// root, an attribute written twice); returns the root element.
+pugi::xml_node check_well_formed(std::string_view text, const Lines& lines, const Xml& xml) {
+  pugi::xml_node root;
+  for (pugi::xml_node node : xml.document.children()) {
+    switch (node.type()) {
+      case pugi::node_element:
+        if (root) {
+          fail_at(lines.of(node),
+                  str("a second top-level element <", node.name(), "> after </", root.name(),
+                      ">: a file holds one picture (was the file appended to instead of overwritten?)"));
+        }
+        root = node;
+        break;
+      case pugi::node_pcdata: {
+        const std::string_view content = trim(node.value());
+        if (content.empty()) break;
+        std::size_t first = static_cast<std::size_t>(std::max<std::ptrdiff_t>(node.offset_debug(), 0));
+        while (first < text.size() && is_space(text[first])) ++first;
+        fail_at(
+            lines.at(static_cast<std::ptrdiff_t>(first)),
+            str("text \"", content.substr(0, 40), content.size() > 40 ? "..." : "", "\" outside the <svg> element: ",
+                root ? "nothing but comments may follow </svg> (was the file appended to instead of overwritten?)"
+                     : "nothing but <?xml ...?>, <!DOCTYPE ...> and comments may come before <svg>"));
+      }
+      case pugi::node_cdata:
+        fail_at(lines.of(node), "a CDATA section outside the <svg> element");
+      default:
+        break;  // the declaration, DOCTYPE, comments, processing instructions
+    }
+  }
+  if (!root) {
+    throw SvgError(
+        "the file contains no element at all (it is empty or only has comments); expected <svg ...> ... </svg>");
+  }
+  for_each_element(root, [&](const pugi::xml_node& element, int) {
+    std::set<std::string_view> names;
+    for (const pugi::xml_attribute& attribute : element.attributes()) {
+      if (names.insert(attribute.name()).second) continue;
+      const std::ptrdiff_t offset = xml.offset_of(attribute.name());
+      fail_at(offset >= 0 ? lines.at(offset) : lines.of(element),
+              str("<", element.name(), "> has the attribute ", attribute.name(),
+                  " twice; a browser refuses the whole file, so write each attribute once"));
+    }
+  });
+  return root;
+}
+
+// --- The SVG layer -------------------------------------------------------------------------------
+
+// What the walk knows of an element and its ancestors.
 struct Frame {
   std::string name;  // local name
-  int line = 0;
   Affine transform;
   std::string transform_error;  // set if this element or an ancestor has a transform we cannot read
   bool hidden = false;
   int circle = -1;  // index into the document's circles if this element is a circle
 };
 
-class Parser {
- public:
-  explicit Parser(std::string_view text) : text_(text) {}
-
-  SvgDocument parse() {
-    if (text_.substr(0, 3) == "\xEF\xBB\xBF") pos_ = 3;  // UTF-8 byte order mark
-    while (pos_ < text_.size()) {
-      if (starts_with("<?")) {
-        skip_past("?>", "a processing instruction <?...");
-      } else if (starts_with("<!--")) {
-        skip_past("-->", "a comment <!--");
-      } else if (starts_with("<![CDATA[")) {
-        if (stack_.empty()) fail_at(line(), "a CDATA section outside the <svg> element");
-        skip_past("]]>", "a CDATA section <![CDATA[");
-      } else if (starts_with("<!")) {
-        skip_declaration();
-      } else if (starts_with("</")) {
-        end_tag();
-      } else if (text_[pos_] == '<') {
-        start_tag();
-      } else {
-        text_content();
-      }
-    }
-    if (!stack_.empty()) {
-      const Frame& open = stack_.back();
-      fail_at(open.line, str("<", open.name, "> is never closed: the file ends before its </", open.name,
-                             "> (did the program stop writing early, or forget to close the file?)"));
-    }
-    if (!seen_root_) {
-      throw SvgError("the file contains no element at all (it is empty or only has comments); expected <svg ...> ... </svg>");
-    }
-    return std::move(document_);
+// The circles under `root`, with their transforms and animations.
+SvgDocument read_circles(const pugi::xml_node& root, const Lines& lines) {
+  SvgDocument document;
+  document.root_name = local_name(root.name());
+  if (document.root_name != "svg") {
+    fail_at(lines.of(root),
+            str("the file's top-level element is <", root.name(), ">; an SVG file's must be <svg ...>"));
   }
-
- private:
-  bool starts_with(std::string_view prefix) const { return text_.substr(pos_, prefix.size()) == prefix; }
-
-  // Line of position `at` (positions are asked for in increasing order, mostly).
-  int line(std::size_t at) {
-    if (at < line_pos_) {
-      line_pos_ = 0;
-      line_ = 1;
-    }
-    for (; line_pos_ < at && line_pos_ < text_.size(); ++line_pos_) {
-      if (text_[line_pos_] == '\n') ++line_;
-    }
-    return line_;
-  }
-  int line() { return line(pos_); }
-
-  void skip_past(std::string_view end, std::string_view what) {
-    const std::size_t found = text_.find(end, pos_);
-    if (found == std::string_view::npos) fail_at(line(), str(what, " is never closed with ", end));
-    pos_ = found + end.size();
-  }
-
-  // <!DOCTYPE ...> possibly with an internal subset [...].
-  void skip_declaration() {
-    const int start_line = line();
-    int brackets = 0;
-    char quote = 0;
-    for (std::size_t i = pos_ + 2; i < text_.size(); ++i) {
-      const char ch = text_[i];
-      if (quote) {
-        if (ch == quote) quote = 0;
-      } else if (ch == '"' || ch == '\'') {
-        quote = ch;
-      } else if (ch == '[') {
-        ++brackets;
-      } else if (ch == ']') {
-        --brackets;
-      } else if (ch == '>' && brackets <= 0) {
-        pos_ = i + 1;
-        return;
-      }
-    }
-    fail_at(start_line, "a declaration <!...> (such as <!DOCTYPE ...>) is never closed with >");
-  }
-
-  void text_content() {
-    const std::size_t next = text_.find('<', pos_);
-    const std::size_t end = next == std::string_view::npos ? text_.size() : next;
-    if (stack_.empty()) {
-      const std::string_view content = trim(text_.substr(pos_, end - pos_));
-      if (!content.empty()) {
-        std::string shown(content.substr(0, 40));
-        std::size_t first = pos_;
-        while (is_space(text_[first])) ++first;
-        fail_at(line(first),
-                str("text \"", shown, content.size() > 40 ? "..." : "", "\" outside the <svg> element: ",
-                    seen_root_ ? "nothing but comments may follow </svg> (was the file appended to instead of overwritten?)"
-                               : "nothing but <?xml ...?>, <!DOCTYPE ...> and comments may come before <svg>"));
-      }
-    }
-    pos_ = end;
-  }
-
-  std::string take_name() {
-    const std::size_t start = pos_;
-    while (pos_ < text_.size() && !is_space(text_[pos_]) && text_[pos_] != '>' && text_[pos_] != '/' &&
-           text_[pos_] != '=' && text_[pos_] != '<' && text_[pos_] != '"' && text_[pos_] != '\'') {
-      ++pos_;
-    }
-    return std::string(text_.substr(start, pos_ - start));
-  }
-
-  void skip_spaces() {
-    while (pos_ < text_.size() && is_space(text_[pos_])) ++pos_;
-  }
-
-  void end_tag() {
-    const int tag_line = line();
-    pos_ += 2;
-    const std::string name = local_name(take_name());
-    skip_spaces();
-    if (pos_ >= text_.size() || text_[pos_] != '>') fail_at(tag_line, str("the end tag </", name, " is not closed with >"));
-    ++pos_;
-    if (stack_.empty()) fail_at(tag_line, str("</", name, "> has no matching <", name, "> before it"));
-    const Frame& open = stack_.back();
-    if (open.name != name) {
-      fail_at(tag_line, str("</", name, "> closes <", open.name, "> (opened on line ", open.line,
-                            "): tags must be closed in the reverse order they were opened, and an element "
-                            "without children is written <", open.name, " ... />"));
-    }
-    stack_.pop_back();
-  }
-
-  void start_tag() {
-    const int tag_line = line();
-    ++pos_;
-    const std::string full_name = take_name();
-    if (full_name.empty()) {
-      fail_at(tag_line, "'<' is not followed by an element name (a literal < in text must be written &lt;)");
-    }
-    const std::string name = local_name(full_name);
+  std::vector<Frame> ancestors;
+  for_each_element(root, [&](const pugi::xml_node& element, int depth) {
+    ancestors.resize(static_cast<std::size_t>(depth));
+    const int tag_line = lines.of(element);
     std::map<std::string, std::string> attributes;
-    bool self_closing = false;
-    for (;;) {
-      skip_spaces();
-      if (pos_ >= text_.size()) fail_at(tag_line, str("the tag <", name, " is never closed with > or />"));
-      const char ch = text_[pos_];
-      if (ch == '>') {
-        ++pos_;
-        break;
-      }
-      if (ch == '/') {
-        if (pos_ + 1 < text_.size() && text_[pos_ + 1] == '>') {
-          pos_ += 2;
-          self_closing = true;
-          break;
-        }
-        fail_at(line(), str("in <", name, ">: '/' must be followed by '>'"));
-      }
-      const int attribute_line = line();
-      const std::string attribute = take_name();
-      if (attribute.empty()) fail_at(attribute_line, str("in <", name, ">: unexpected character '", ch, "'"));
-      skip_spaces();
-      if (pos_ >= text_.size() || text_[pos_] != '=') {
-        fail_at(attribute_line, str("in <", name, ">: attribute ", attribute, " has no value (write ", attribute, "=\"...\")"));
-      }
-      ++pos_;
-      skip_spaces();
-      if (pos_ >= text_.size() || (text_[pos_] != '"' && text_[pos_] != '\'')) {
-        fail_at(attribute_line, str("in <", name, ">: the value of ", attribute,
-                                    " must be in quotes, e.g. ", attribute, "=\"12.5\""));
-      }
-      const char quote = text_[pos_];
-      const std::size_t close = text_.find(quote, pos_ + 1);
-      if (close == std::string_view::npos) fail_at(attribute_line, str("in <", name, ">: the value of ", attribute, " is never closed with ", quote));
-      const std::string value = decode_entities(text_.substr(pos_ + 1, close - pos_ - 1));
-      pos_ = close + 1;
-      if (!attributes.emplace(attribute, value).second) {
-        fail_at(attribute_line, str("<", name, "> has the attribute ", attribute, " twice"));
-      }
-    }
-    open_element(name, tag_line, std::move(attributes), self_closing);
-  }
+    for (const pugi::xml_attribute& attribute : element.attributes())
+      attributes.emplace(attribute.name(), attribute.value());
 
-  void open_element(const std::string& name, int tag_line, std::map<std::string, std::string> attributes,
-                    bool self_closing) {
     Frame frame;
-    frame.name = name;
-    frame.line = tag_line;
-    if (stack_.empty()) {
-      if (seen_root_) {
-        fail_at(tag_line, str("a second top-level element <", name, "> after </", document_.root_name,
-                              ">: a file holds one picture (was the file appended to instead of overwritten?)"));
-      }
-      seen_root_ = true;
-      if (name != "svg") {
-        fail_at(tag_line, str("the file's top-level element is <", name, ">; an SVG file's must be <svg ...>"));
-      }
-      document_.root_name = name;
-      document_.root_attributes = attributes;
+    frame.name = local_name(element.name());
+    if (ancestors.empty()) {
+      document.root_attributes = attributes;
     } else {
-      const Frame& parent = stack_.back();
+      const Frame& parent = ancestors.back();
       frame.transform = parent.transform;
       frame.transform_error = parent.transform_error;
       frame.hidden = parent.hidden;
-      if (name == "svg" && frame.transform_error.empty()) {
-        frame.transform_error = str("line ", tag_line, ": an <svg> inside <svg> starts a new viewport, which the test reader does not understand; "
-                                    "draw everything in one <svg> and use <g transform=\"...\"> to move or scale");
+      if (frame.name == "svg" && frame.transform_error.empty()) {
+        frame.transform_error =
+            str("line ", tag_line,
+                ": an <svg> inside <svg> starts a new viewport, which the test reader does not understand; "
+                "draw everything in one <svg> and use <g transform=\"...\"> to move or scale");
       }
     }
-    if (hides_children(name)) frame.hidden = true;
+    if (hides_children(frame.name)) frame.hidden = true;
     if (const auto it = attributes.find("transform"); it != attributes.end() && frame.transform_error.empty()) {
       Affine own;
       const std::string error = parse_transform(it->second, own);
@@ -449,11 +526,11 @@ class Parser {
       }
     }
 
-    if (name == "circle") {
+    if (frame.name == "circle") {
       if (!frame.transform_error.empty()) throw SvgError(frame.transform_error);
       SvgCircle circle;
       circle.line = tag_line;
-      for (const Frame& ancestor : stack_) circle.ancestors.push_back(ancestor.name);
+      for (const Frame& ancestor : ancestors) circle.ancestors.push_back(ancestor.name);
       circle.rendered = !frame.hidden;
       auto length = [&](const char* attribute, double& out) {
         const auto it = attributes.find(attribute);
@@ -474,9 +551,9 @@ class Parser {
       circle.x = centre[0];
       circle.y = centre[1];
       circle.radius = circle.r * circle.transform.length_scale();
-      frame.circle = static_cast<int>(document_.circles.size());
-      document_.circles.push_back(std::move(circle));
-    } else if (name == "animate" && !stack_.empty() && stack_.back().circle >= 0) {
+      frame.circle = static_cast<int>(document.circles.size());
+      document.circles.push_back(std::move(circle));
+    } else if (frame.name == "animate" && !ancestors.empty() && ancestors.back().circle >= 0) {
       SvgAnimation animation;
       animation.line = tag_line;
       auto get = [&attributes](const char* attribute) {
@@ -497,20 +574,26 @@ class Parser {
         animation.key_times = split_semicolons(it->second);
       }
       animation.attributes = std::move(attributes);
-      document_.circles[static_cast<std::size_t>(stack_.back().circle)].animations.push_back(std::move(animation));
+      document.circles[static_cast<std::size_t>(ancestors.back().circle)].animations.push_back(std::move(animation));
     }
-    if (!self_closing) stack_.push_back(std::move(frame));
+    ancestors.push_back(std::move(frame));
+  });
+  return document;
+}
+
+// Refuses what pugixml cannot say with a line number: a file that is not UTF-8 (or ASCII).
+void check_encoding(std::string_view text, const Lines& lines) {
+  if (text.substr(0, 2) == "\xFF\xFE" || text.substr(0, 2) == "\xFE\xFF") {
+    throw SvgError(
+        "the file is written in UTF-16 (it starts with a UTF-16 byte order mark); write it as UTF-8 or "
+        "plain ASCII, as std::ofstream does with char strings");
   }
-
-  std::string_view text_;
-  std::size_t pos_ = 0;
-  std::size_t line_pos_ = 0;
-  int line_ = 1;
-  bool seen_root_ = false;
-  std::vector<Frame> stack_;
-  SvgDocument document_;
-};
-
+  if (const std::size_t nul = text.find('\0'); nul != std::string_view::npos) {
+    fail_at(lines.at(static_cast<std::ptrdiff_t>(nul)),
+            "the file contains a NUL character (byte 0), which XML does not allow; was a '\\0' or binary data "
+            "written into it?");
+  }
+}
 }  // namespace
 
 Affine Affine::then_inner(const Affine& in) const {
@@ -550,7 +633,13 @@ std::vector<const SvgCircle*> SvgDocument::rendered_circles() const {
   return found;
 }
 
-SvgDocument parse_svg(std::string_view text) { return Parser(text).parse(); }
+SvgDocument parse_svg(std::string_view text) {
+  const Lines lines(text);
+  check_encoding(text, lines);
+  const Xml xml(text);
+  if (!xml.result) refuse_malformed(text, lines, xml);
+  return read_circles(check_well_formed(text, lines, xml), lines);
+}
 
 SvgDocument read_svg(const std::filesystem::path& file) {
   std::error_code error;

@@ -1,9 +1,10 @@
-// A small, tolerant reader for the SVG files the course tasks write (visualize_table, movie).
-// It understands just enough XML and SVG to find the <circle> elements, where they are drawn and
-// how they are animated:
-//   - skips the <?xml ...?> declaration, processing instructions, comments, <!DOCTYPE ...>,
-//     CDATA sections and text; element names may carry a namespace prefix (svg:circle);
-//   - attributes in any order, with single or double quotes and the usual entities (&amp; ...);
+// A small reader for the SVG files the course tasks write (visualize_table, movie). The XML is
+// read by pugixml; the reader finds the <circle> elements in it, where they are drawn and how
+// they are animated:
+//   - XML as a browser reads it: the <?xml ...?> declaration, processing instructions, comments,
+//     <!DOCTYPE ...>, CDATA sections and text are skipped; element names may carry a namespace
+//     prefix (svg:circle); attributes in any order, with single or double quotes, and entities
+//     (&amp; &lt; &#65; ...) decoded;
 //   - <circle> cx, cy, r as numbers, optionally with a unit (px, or the absolute units mm, cm,
 //     in, pt, pc, converted to px); a missing cx or cy is 0, as in SVG;
 //   - transform="..." on <svg>, <g>, <a>, <circle> (translate, scale, rotate, skewX, skewY,
@@ -13,6 +14,8 @@
 //     sampling them at a fraction of their duration by the SMIL rules for linear animation.
 // Files a browser would refuse (tags that do not match, text or a second element outside the
 // root, duplicate attributes) are refused as well, with the line number and a plain message.
+// pugixml finds most of these; text or a second element outside the root and duplicate
+// attributes, which it accepts, are checked by the reader.
 #pragma once
 
 #include <array>
