@@ -59,32 +59,22 @@ void Container::bounds(Vec2& lower, Vec2& upper) const {
     upper = period;
     return;
   }
-  // Centres lie inside the table and inside the outlines: the intersection of their boxes. Without
-  // either (free segments only, no closed container) the walls' box.
-  const bool closed_region = has_table || !outlines.empty();
+  // Centres lie inside the table and inside the outlines (an outline inside another is an
+  // obstacle): the table's box cut down to the box around all the outlines.
   lower = Vec2::Constant(-kNever);
   upper = Vec2::Constant(kNever);
   if (has_table) {
     lower = Vec2::Constant(-table_radius);
     upper = Vec2::Constant(table_radius);
   }
+  if (outlines.empty()) return;
   Vec2 outline_lower = Vec2::Constant(kNever), outline_upper = Vec2::Constant(-kNever);
   for (const Points& outline : outlines) {
     outline_lower = outline_lower.cwiseMin(outline.colwise().minCoeff().transpose());
     outline_upper = outline_upper.cwiseMax(outline.colwise().maxCoeff().transpose());
   }
-  if (!outlines.empty()) {
-    lower = lower.cwiseMax(outline_lower);
-    upper = upper.cwiseMin(outline_upper);
-  }
-  if (closed_region) return;
-  lower = Vec2::Constant(kNever);
-  upper = Vec2::Constant(-kNever);
-  for (const Wall& wall : walls) {
-    const Vec2 b = wall.kind == WallKind::Segment ? wall.b : wall.a;
-    lower = lower.cwiseMin(wall.a.cwiseMin(b));
-    upper = upper.cwiseMax(wall.a.cwiseMax(b));
-  }
+  lower = lower.cwiseMax(outline_lower);
+  upper = upper.cwiseMin(outline_upper);
 }
 
 double Container::extent() const {

@@ -64,7 +64,7 @@ struct Container {
                                          int count = -1) const;
 
   // A box holding every place a centre can reach: the period, or the box of the table and the
-  // outlines (of the walls when the container is not closed).
+  // outlines. Only for a closed() container.
   void bounds(Vec2& lower, Vec2& upper) const;
   // The largest coordinate of the container and the walls. Every wall counts: the distance to a
   // segment that reaches into the table from 1e50 away is computed from its far end point.

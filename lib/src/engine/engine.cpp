@@ -136,7 +136,6 @@ inline void test_pair(const BigVector<HotDisc>& hot, const Vec2& gravity, int i,
       s.contact_time = t;
       s.partner = j;
       s.partner_counter = o.counter;
-      s.wall = kNoWall;
     }
     return;
   }
@@ -166,7 +165,6 @@ inline void test_pair(const BigVector<HotDisc>& hot, const Vec2& gravity, int i,
     s.contact_time = t;
     s.partner = j;
     s.partner_counter = o.counter;
-    s.wall = kNoWall;
   }
 }
 

@@ -81,7 +81,7 @@ struct Scheduled {
   double crossing_time;  // absolute time
   int partner;           // the disc of the contact, or kNoDisc (a wall, or no contact)
   int partner_counter;   // the partner's collision counter at prediction
-  int wall;              // the wall of the contact, or kNoWall (a disc, or no contact)
+  int wall;              // the wall of the contact when partner is kNoDisc (else not read)
   Face crossing;         // the face of the crossing
 };
 
