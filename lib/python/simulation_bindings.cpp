@@ -262,7 +262,7 @@ mass (n,), radius (n,), inertia (n,). Bad input raises ValueError naming the dis
           "walls",
           [](const Simulation& s) {
             py::list out;
-            for (const Wall& w : s.walls()) {
+            for (const WallShape& w : s.walls()) {
               py::dict d;
               d["kind"] = wall_kind(w.kind);
               d["a"] = py::make_tuple(w.a.x(), w.a.y());

@@ -90,7 +90,7 @@ Snapshot snapshot(const Simulation& sim) {
   s.add_all("masses", sim.masses());
   s.add_all("inertias", sim.inertias());
   s.add("walls", static_cast<std::int64_t>(sim.walls().size()));
-  for (const billiard::Wall& w : sim.walls()) {
+  for (const billiard::WallShape& w : sim.walls()) {
     s.add("wall kind", static_cast<std::int64_t>(w.kind));
     s.add("wall a", w.a);
     s.add("wall b", w.b);

@@ -171,7 +171,7 @@ TEST(Sectors, CellRecordsKeepEveryDiscThroughSpillsAndGrowth) {
   ASSERT_EQ(grid.nx * grid.ny, 16);
   billiard::set_capacity(grid, 5);
   // One wall along the bottom edge: listed in the bottom row of cells only.
-  billiard::Wall bottom;
+  billiard::WallShape bottom;
   bottom.kind = billiard::WallKind::Segment;
   bottom.a = Vec2(0, 0);
   bottom.b = Vec2(4, 0);

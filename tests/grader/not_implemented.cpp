@@ -2,6 +2,7 @@
 // task's functions throw the usual "not implemented yet" error, so that the other tasks'
 // suites still build and are graded normally. BILLIARD_STUB_<TASK> chooses the task.
 #include "billiard/course.hpp"
+#include "billiard/extensions.hpp"
 #include "billiard/not_implemented.hpp"
 
 namespace billiard {
@@ -33,6 +34,25 @@ void movie(double, double, int, Coordinates&, Velocities&, int, const std::files
 double kinetic_energy(int, const Velocities&) { throw NotImplemented(6, "kinetic_energy", "kinetic_energy.cpp"); }
 void correct_energy_drift(int, Velocities&, double) {
   throw NotImplemented(6, "correct_energy_drift", "kinetic_energy.cpp");
+}
+#endif
+
+#ifdef BILLIARD_STUB_GRAVITY
+Collision propagate_gravity(double, double, int, Coordinates&, Velocities&, const Vector&) {
+  throw NotImplemented(7, "propagate_gravity", "gravity.cpp");
+}
+double mean_energy(int, const Coordinates&, const Velocities&, const Vector&) {
+  throw NotImplemented(7, "mean_energy", "gravity.cpp");
+}
+#endif
+#ifdef BILLIARD_STUB_WALLS
+Collision propagate_walls(double, double, int, Coordinates&, Velocities&, const std::vector<Wall>&) {
+  throw NotImplemented(8, "propagate_walls", "walls.cpp");
+}
+#endif
+#ifdef BILLIARD_STUB_SECTORS
+Collision propagate_sectors(double, double, int, Coordinates&, Velocities&, double) {
+  throw NotImplemented(9, "propagate_sectors", "sectors.cpp");
 }
 #endif
 

@@ -1,9 +1,12 @@
 #include "billiard/argument_checks.hpp"
 
+#include "billiard/engine/wall.hpp"
+
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace billiard::checks {
 namespace {
@@ -70,6 +73,54 @@ void placement(double table_radius, double circle_radius, const Coordinates& coo
              2 * circle_radius, ")");
       }
     }
+  }
+}
+
+void vector(const Vector& value, std::string_view name) {
+  if (!value.allFinite() || value.cwiseAbs().maxCoeff() > kLargest) {
+    fail(name, " = (", value(0), ", ", value(1), "): must be finite numbers, at most 1e50 in magnitude");
+  }
+}
+
+void walls(double table_radius, const std::vector<Wall>& walls) {
+  const double reach = table_radius * (1 + 1e-9);
+  for (std::size_t k = 0; k < walls.size(); ++k) {
+    for (const auto& [end, label] : {std::pair{walls[k].a, "a"}, std::pair{walls[k].b, "b"}}) {
+      if (!end.allFinite() || end.squaredNorm() > reach * reach) {
+        fail("walls[", k, "].", label, " = (", end(0), ", ", end(1),
+             "): a wall's end points must be finite and inside the table (|", label, "| <= table_radius = ",
+             table_radius, ")");
+      }
+    }
+  }
+}
+
+double distance_to_wall(const Vector& p, const Wall& wall) {
+  return distance_to_segment(p.transpose(), wall.a.transpose(), wall.b.transpose());
+}
+
+void clear_of_walls(double table_radius, double circle_radius, const Coordinates& coordinates,
+                    const std::vector<Wall>& walls) {
+  const double clearance = circle_radius - 1e-9 * table_radius;
+  for (Eigen::Index i = 0; i < coordinates.rows(); ++i) {
+    for (std::size_t k = 0; k < walls.size(); ++k) {
+      const double distance = distance_to_wall(coordinates.row(i), walls[k]);
+      if (distance < clearance) {
+        fail("coordinates row ", i, " = (", coordinates(i, 0), ", ", coordinates(i, 1), "): circle overlaps walls[",
+             k, "] (its centre is ", distance, " from the wall, less than circle_radius = ", circle_radius, ")");
+      }
+    }
+  }
+}
+
+void cell_size(double table_radius, double circle_radius, double cell_size) {
+  if (!(std::isfinite(cell_size) && cell_size >= 2 * circle_radius)) {
+    fail("cell_size = ", cell_size, ": must be a finite number of at least 2 circle_radius = ", 2 * circle_radius);
+  }
+  if (2 * table_radius / cell_size > kMaxCellsAcross) {
+    fail("cell_size = ", cell_size, ": too small, the table would be ", 2 * table_radius / cell_size,
+         " cells across (at most ", kMaxCellsAcross, "); use a cell_size of at least ",
+         2 * table_radius / kMaxCellsAcross);
   }
 }
 

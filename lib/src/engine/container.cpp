@@ -13,7 +13,7 @@ Vec2 wrap_into_period(Vec2 p, const Vec2& period) {
   return p;
 }
 
-double wall_clearance(const Wall& wall, const Vec2& p, double radius) {
+double wall_clearance(const WallShape& wall, const Vec2& p, double radius) {
   if (wall.kind == WallKind::Circle) return wall.radius - (p - wall.a).norm() - radius;
   return (closest_point(wall, p) - p).norm() - radius;
 }
@@ -80,7 +80,7 @@ void Container::bounds(Vec2& lower, Vec2& upper) const {
 double Container::extent() const {
   double largest = has_table ? table_radius : 0.0;
   if (periodic) largest = std::max(largest, period.maxCoeff());
-  for (const Wall& wall : walls) {
+  for (const WallShape& wall : walls) {
     if (wall.kind != WallKind::Circle) largest = std::max({largest, wall.a.cwiseAbs().maxCoeff(), wall.b.cwiseAbs().maxCoeff()});
   }
   return largest;

@@ -21,13 +21,13 @@ Vec2 wrap_into_period(Vec2 p, const Vec2& period);
 
 // Gap between a disc of `radius` at p and a wall: the distance from the disc's edge to the wall,
 // negative when they overlap. For the circle of a table the disc is inside it.
-double wall_clearance(const Wall& wall, const Vec2& p, double radius);
+double wall_clearance(const WallShape& wall, const Vec2& p, double radius);
 
 // The message for a disc overlapping a wall, the same at set-up and in validation.
 std::string wall_overlap_message(const std::string& who, const Vec2& p, int wall, double clearance, double radius);
 
 struct Container {
-  std::vector<Wall> walls;       // the table's circle, segments and their end points
+  std::vector<WallShape> walls;       // the table's circle, segments and their end points
   std::vector<Points> outlines;  // closed boxes and polygons (vertices in order), for contains
   bool has_table = false;
   double table_radius = 0.0;

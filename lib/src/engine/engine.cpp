@@ -104,7 +104,7 @@ void Simulation::Engine::prepare() {
   setup_hash.cells.clear();  // no more discs can be added: free the setup hash
 }
 
-double Simulation::Engine::wall_time(const Wall& wall, const Vec2& r, const Vec2& v, double radius) const {
+double Simulation::Engine::wall_time(const WallShape& wall, const Vec2& r, const Vec2& v, double radius) const {
   switch (wall.kind) {
     case WallKind::Segment:
       return disc_segment_time(r, v, gravity, wall.a, wall.b, fixed_reach(radius));
@@ -510,7 +510,7 @@ void Simulation::Engine::collide_pair(int i, int j) {
 void Simulation::Engine::collide_wall(int i, int w) {
   HotDisc& d = hot[i];
   advance_disc(d, now);
-  const Wall& wall = container.walls[w];
+  const WallShape& wall = container.walls[w];
   // Contact normal from the disc centre towards the wall.
   const Vec2 normal = wall.kind == WallKind::Circle ? Vec2(d.position - wall.a) : Vec2(closest_point(wall, d.position) - d.position);
   // A disc found a rounding error into the wall is put back on it. Under gravity a disc resting

@@ -194,7 +194,7 @@ struct Simulation::Engine {
   void for_each_near(int i, Visit visit) const;
   void choose_granular_model();
   void choose_speeds();
-  double wall_time(const Wall& wall, const Vec2& r, const Vec2& v, double radius) const;
+  double wall_time(const WallShape& wall, const Vec2& r, const Vec2& v, double radius) const;
   void scan_cell(int i, int cx, int cy, const Vec2& r, const Vec2& v, Scheduled& s) const;
   void scan_listed(int i, const int* list, int m, const Vec2& r, const Vec2& v, Scheduled& s) const;
   void scan_walls(int cell, const Vec2& r, const Vec2& v, double radius, Scheduled& s) const;

@@ -123,11 +123,11 @@ void cell_bounds(const Grid& grid, int c, Vec2& lo, Vec2& hi) {
   }
 }
 
-void assign_walls(Grid& grid, const std::vector<Wall>& walls, double reach) {
+void assign_walls(Grid& grid, const std::vector<WallShape>& walls, double reach) {
   const int cells = grid.nx * grid.ny;
   std::vector<std::vector<int>> lists(static_cast<std::size_t>(cells));
   for (int k = 0; k < static_cast<int>(walls.size()); ++k) {
-    const Wall& wall = walls[k];
+    const WallShape& wall = walls[k];
     // Only the cells of the wall's bounding box grown by `reach` can be near it.
     Vec2 box_lo, box_hi;
     if (wall.kind == WallKind::Circle) {

@@ -99,6 +99,6 @@ void cell_bounds(const Grid& grid, int c, Vec2& lo, Vec2& hi);
 
 // Fills the wall ranges and wall_items: wall k is listed in every cell whose rectangle lies within
 // `reach` (the largest disc radius, plus a margin) of it.
-void assign_walls(Grid& grid, const std::vector<Wall>& walls, double reach);
+void assign_walls(Grid& grid, const std::vector<WallShape>& walls, double reach);
 
 }  // namespace billiard

@@ -210,7 +210,7 @@ void Simulation::set_circular_table(double radius) {
   }
   e.container.has_table = true;
   e.container.table_radius = radius;
-  e.container.walls.push_back(Wall{WallKind::Circle, Vec2::Zero(), Vec2::Zero(), radius});
+  e.container.walls.push_back(WallShape{WallKind::Circle, Vec2::Zero(), Vec2::Zero(), radius});
 }
 
 void Simulation::set_periodic_box(double width, double height) {
@@ -257,7 +257,7 @@ int Simulation::add_segment(const Vec2& a, const Vec2& b) {
   if (!((a - b).squaredNorm() > 0)) refuse("add_segment: a and b must differ, got " + vec(a) + " and " + vec(b));
   if (e.container.periodic) refuse("add_segment: walls inside a periodic box are not supported");
   check_extent(e, std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()), "add_segment");
-  const Wall segment{WallKind::Segment, a, b, 0.0};
+  const WallShape segment{WallKind::Segment, a, b, 0.0};
   for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
     const double distance = (closest_point(segment, e.hot[i].position) - e.hot[i].position).norm();
     if (distance < e.hot[i].radius) {
@@ -268,8 +268,8 @@ int Simulation::add_segment(const Vec2& a, const Vec2& b) {
   e.container.walls.push_back(segment);
   for (const Vec2& p : {a, b}) {
     bool known = false;
-    for (const Wall& w : e.container.walls) known = known || (w.kind == WallKind::Point && w.a == p);
-    if (!known) e.container.walls.push_back(Wall{WallKind::Point, p, p, 0.0});
+    for (const WallShape& w : e.container.walls) known = known || (w.kind == WallKind::Point && w.a == p);
+    if (!known) e.container.walls.push_back(WallShape{WallKind::Point, p, p, 0.0});
   }
   return index;
 }
@@ -604,7 +604,7 @@ const State& Simulation::initial_state() const {
   if (!e.prepared) e.initial = e.state_now();
   return e.initial;
 }
-const std::vector<Wall>& Simulation::walls() const { return engine_->container.walls; }
+const std::vector<WallShape>& Simulation::walls() const { return engine_->container.walls; }
 Totals Simulation::totals() const { return engine_->totals; }
 
 double Simulation::kinetic_energy() const {

@@ -14,7 +14,7 @@ double distance_to_segment(const Vec2& p, const Vec2& a, const Vec2& b) {
   return (p - (a + s * ab)).norm();
 }
 
-Vec2 closest_point(const Wall& wall, const Vec2& p) {
+Vec2 closest_point(const WallShape& wall, const Vec2& p) {
   switch (wall.kind) {
     case WallKind::Segment: {
       const Vec2 ab = wall.b - wall.a;

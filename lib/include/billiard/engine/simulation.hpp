@@ -154,7 +154,7 @@ class Simulation {
   double time() const;
   State current_state() const;        // all discs advanced to time()
   const State& initial_state() const; // as at the first advance (or now, before it)
-  const std::vector<Wall>& walls() const;
+  const std::vector<WallShape>& walls() const;
   Totals totals() const;
   double kinetic_energy() const;      // sum m v^2/2 + I w^2/2
   double potential_energy() const;    // - sum m g.r

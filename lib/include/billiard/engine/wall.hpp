@@ -14,7 +14,7 @@ enum class WallKind : int { Segment, Point, Circle };
 
 // One wall. Segment: from `a` to `b`, hit on either face. Point: at `a`. Circle: centre `a`,
 // radius `radius`, discs live inside it.
-struct Wall {
+struct WallShape {
   WallKind kind = WallKind::Point;
   Vec2 a = Vec2::Zero();
   Vec2 b = Vec2::Zero();
@@ -22,7 +22,7 @@ struct Wall {
 };
 
 // Closest point of a wall to the point p (for a circle: on its rim, towards p).
-Vec2 closest_point(const Wall& wall, const Vec2& p);
+Vec2 closest_point(const WallShape& wall, const Vec2& p);
 
 // Distance from p to the segment a-b.
 double distance_to_segment(const Vec2& p, const Vec2& a, const Vec2& b);
