@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Grades the six course tasks of a submission and writes what the grading platforms read.
+"""Grades the course's tasks of a submission (tests/grader/course.txt: the six tasks and the
+extension stages that are not switched off) and writes what the grading platforms read.
 
     /usr/bin/python3 tests/grader/grade.py [--submission DIR] [--results DIR] [options]
 
@@ -16,7 +17,7 @@ Each task has a time budget (--task-budget): compiling its file, linking its sui
 its tests may take that long in all. Once one of its tests does not finish within --timeout, its
 other tests get --short-timeout each, and when the budget is used up its remaining tests fail
 without running. So a submission, however it misbehaves, is graded within the grader's own build
-plus six budgets, and only the misbehaving task loses points.
+plus one budget per task, and only the misbehaving task loses points.
 
 Prints a table (task, points / maximum, and each failing test's message and hint), and writes
 results.json (Gradescope's format) and junit.xml into --results. Exit status 0 when grading
@@ -45,7 +46,7 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from progress import TASKS, TASK_FUNCTIONS, TASK_NUMBER, TaskProgress, next_step, task_name
+from progress import OFF, TASKS, TASK_FUNCTIONS, TASK_NUMBER, TaskProgress, is_optional, next_step, task_name  # noqa: F401 (OFF: for package.py)
 
 REPO = Path(__file__).resolve().parents[2]
 HIDDEN_FEEDBACK = "This test is hidden: its details are not shown."
@@ -647,7 +648,8 @@ def print_table(results, verbose):
     width = max(len(task) for task in TASKS) + 2
     print(f"\n{'task':<{width + 4}}points")
     for result in results:
-        print(f"{TASK_NUMBER[result.task]:>2}  {result.task:<{width}}{result.score:>3} / {result.maximum}")
+        optional = "  (optional)" if is_optional(result.task) else ""
+        print(f"{TASK_NUMBER[result.task]:>2}  {result.task:<{width}}{result.score:>3} / {result.maximum}{optional}")
         if result.problem:
             print(indent(result.problem, 6))
             continue
@@ -666,9 +668,12 @@ def print_table(results, verbose):
             print(f"      not run: {plural(len(not_run), 'test')} ({plural(sum(t.points for t in not_run), 'point')}): "
                   f"the task may take {result.clock.budget:g} s in all, and {used_up(result.clock)}. An endless "
                   f"loop in {TASK_FUNCTIONS[result.task]}?")
-    total = sum(result.score for result in results)
-    maximum = sum(result.maximum for result in results)
-    print(f"\n    {'total':<{width}}{total:>3} / {maximum}")
+    counted = [result for result in results if not is_optional(result.task)]
+    extra = [result for result in results if is_optional(result.task)]
+    print(f"\n    {'total':<{width}}{sum(r.score for r in counted):>3} / {sum(r.maximum for r in counted)}")
+    if extra:
+        print(f"    {'optional':<{width}}{sum(r.score for r in extra):>3} / {sum(r.maximum for r in extra)}"
+              f"  (extra credit: {', '.join(r.task for r in extra)}; not in the total)")
     print("\n" + "\n".join(next_step([task_progress(result) for result in results])))
 
 
@@ -719,7 +724,8 @@ def gradescope_results(results, elapsed):
     return {
         "score": sum(result.score for result in results),
         "execution_time": round(elapsed, 1),
-        "output": "Points per task: " + ", ".join(f"{r.task} {r.score}/{r.maximum}" for r in results),
+        "output": "Points per task: " + ", ".join(f"{r.task} {r.score}/{r.maximum}" + (" (optional)" if is_optional(r.task) else "")
+                                            for r in results),
         "stdout_visibility": "hidden",
         "tests": tests,
     }
@@ -776,8 +782,8 @@ def parse_arguments(argv):
     parser.add_argument("--task-budget", type=float, default=120.0,
                         help="seconds each task may take in all: compiling its file, linking its suite and running "
                              "its tests (their durations added up, also when two run at once); tests left when it is "
-                             "used up fail without running. Grading takes at most the grader's own build plus six "
-                             "budgets (default 120)")
+                             "used up fail without running. Grading takes at most the grader's own build plus one "
+                             "budget per task (default 120)")
     parser.add_argument("--compile-timeout", type=float, default=60.0,
                         help="seconds per submitted file, within its task's budget (default 60)")
     parser.add_argument("--build-timeout", type=float, default=1800.0,

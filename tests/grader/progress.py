@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The six course tasks, and where a student stands in them after a run of the tests.
+"""The course's tasks, and where a student stands in them after a run of the tests.
 
     /usr/bin/python3 tests/grader/progress.py JUNIT_XML
 
@@ -8,6 +8,9 @@ prints one short block: each task whose tests ran and how it stands, then what t
 first task that is not written or not passing, and the command that runs its tests). The grader
 (grade.py) ends its report with the same "Next:" lines. Exit status 0, or 2 for a missing or
 unreadable file.
+
+The tasks come from course.txt next to this file (the six tasks and the extension stages, and
+which of them count); every script of the grader takes them from here.
 """
 
 import re
@@ -16,18 +19,59 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
 
-TASKS = ["init_billiard", "init_velocities", "visualize_table", "propagate", "movie", "kinetic_energy"]
-TASK_NUMBER = {task: number for number, task in enumerate(TASKS, start=1)}
+COURSE_FILE = Path(__file__).resolve().parent / "course.txt"
+STATUSES = ("required", "optional", "off")
+CORE_TASKS = 6  # tasks 1-6 are the course's core: always required
+
+
+def read_course(path=COURSE_FILE):
+    """[(number, name, status)] from course.txt, in course order; ValueError names a bad line."""
+    course = []
+    for line_number, line in enumerate(path.read_text().splitlines(), start=1):
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        words = line.split()
+        if len(words) != 3 or not words[0].isdigit() or words[2] not in STATUSES:
+            raise ValueError(f"{path.name} line {line_number}: '{line}' is not 'NUMBER NAME required|optional|off'")
+        number, name, status = int(words[0]), words[1], words[2]
+        if number != len(course) + 1:
+            raise ValueError(f"{path.name} line {line_number}: task {number} should be task {len(course) + 1}")
+        if number <= CORE_TASKS and status != "required":
+            raise ValueError(f"{path.name} line {line_number}: task {number} ({name}) is one of the six "
+                             f"core tasks and must stay required")
+        course.append((number, name, status))
+    return course
+
+
+COURSE = read_course()
+TASKS = [name for _, name, status in COURSE if status != "off"]           # built and graded
+OPTIONAL = [name for _, name, status in COURSE if status == "optional"]   # extra credit
+STAGES = [name for number, name, status in COURSE if number > CORE_TASKS and status != "off"]
+OFF = [name for _, name, status in COURSE if status == "off"]
+TASK_NUMBER = {name: number for number, name, _ in COURSE}
 # What a student writes in each task's file, for hints.
-TASK_FUNCTIONS = {task: task for task in TASKS} | {"kinetic_energy": "kinetic_energy or correct_energy_drift"}
+TASK_FUNCTIONS = {task: task for task in TASKS} | {
+    "kinetic_energy": "kinetic_energy or correct_energy_drift",
+    "gravity": "propagate_gravity or mean_energy",
+    "walls": "propagate_walls",
+    "sectors": "propagate_sectors",
+}
 # The course's error for a task that is not written yet (lib/src/course/not_implemented.cpp).
-NOT_WRITTEN = re.compile(r"task (\d) \(\w+\) is not implemented yet")
+NOT_WRITTEN = re.compile(r"task (\d+) \(\w+\) is not implemented yet")
 # The lines of a graded test's message for students (tests/support/student_messages.hpp).
 STUDENT_MESSAGE = re.compile(r"(Expected|Your code|Hint): ")
 
 
+def is_optional(task):
+    return task in OPTIONAL
+
+
 def task_name(task):
     return f"task {TASK_NUMBER[task]} ({task})"
+
+
+def task_with_number(number):
+    return next((name for name, n in TASK_NUMBER.items() if n == number and name in TASKS), None)
 
 
 def run_command(task):
@@ -50,7 +94,7 @@ class TaskProgress:
         if passed:
             return
         self.failing.append(name)
-        named = {TASKS[int(number) - 1] for number in NOT_WRITTEN.findall(output) if 1 <= int(number) <= len(TASKS)}
+        named = {task_with_number(int(number)) for number in NOT_WRITTEN.findall(output)} - {None}
         if named:
             self.waits_for |= named
             return
@@ -95,6 +139,8 @@ def next_step(progress, other_failing=(), waiting=0):
         elif item.missing:
             task = item.missing
             first = f"Next: write {task_name(task)} in tasks/{task}.cpp"
+            if is_optional(task):
+                first += " (an optional extension stage: extra credit)"
         else:
             first = f"Next: {task_name(task)}, starting with its first failing test, {item.failing[0]}:"
             details = [f"  {shortened(line)}" for line in item.first_message] or ["  (its message is above)"]
@@ -141,13 +187,14 @@ def from_ctest_junit(path):
 
 
 def report(progress, other_failing, waiting):
-    """The block ./build.sh test ends with: at most 6 + 3 lines."""
+    """The block ./build.sh test ends with: one line per task that ran, then at most 4 lines."""
     lines = []
     if progress:
         width = max(len(task) for task in TASKS)
         lines.append("Where the tasks stand:")
         for item in sorted(progress, key=lambda p: TASK_NUMBER[p.task]):
-            lines.append(f"  {TASK_NUMBER[item.task]} {item.task:<{width}}  {item.state()}")
+            optional = " (optional)" if is_optional(item.task) else ""
+            lines.append(f"  {TASK_NUMBER[item.task]} {item.task:<{width}}  {item.state()}{optional}")
     return lines + next_step(progress, other_failing, waiting)
 
 
