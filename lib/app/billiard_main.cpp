@@ -1,20 +1,27 @@
 // The `billiard` command: runs the six course functions on one table and reports.
 //
 //   billiard [TABLE_RADIUS CIRCLE_RADIUS N] [--seed S] [--collisions K]
-//            [--drift-collisions M] [--output DIR]
+//            [--drift-collisions M] [--output DIR] [--gravity GX,GY | --walls FILE | --cells SIZE]
 //
 // It places N circles (task 1), gives them velocities (task 2), draws the table (task 3),
 // records a movie of K collisions (tasks 4 and 5), runs M more collisions and reports how
 // well the mean squared velocity was conserved, before and after the correction (task 6).
+// With a stage's option it runs that extension stage (7 gravity, 8 walls, 9 sectors) after
+// tasks 1-3 instead: a movie of K events drawn by the command, then M more events and what the
+// stage conserves (or, for sectors, how many pair tests each collision took).
 // Built from a student's tasks/, it runs what it can, reports the tasks in order, and says which
 // are missing and which wait for them.
 //
 // Exit status: 0 all done; 1 some task is not implemented yet or failed; 2 bad input (one
 // line on stderr, nothing written).
+#include "billiard/argument_checks.hpp"
 #include "billiard/course.hpp"
 #include "billiard/not_implemented.hpp"
+#include "cli_text.hpp"
+#include "stages.hpp"
 
 #include <atomic>
+#include <algorithm>
 #include <cerrno>
 #include <cctype>
 #include <charconv>
@@ -38,6 +45,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
+using namespace billiard_cli;
+using billiard_cli::Stage;
+
 // Limits, so that every accepted run ends within minutes and no number of the run overflows.
 // Velocities are of order 1, so lengths, times and their squares stay near the radii's scale.
 constexpr double kMinRadius = 0.001, kMaxRadius = 1000;  // only the ratio of the radii matters
@@ -46,25 +56,14 @@ constexpr long long kMaxCollisions = 1'000'000;
 constexpr long long kMaxDriftCollisions = 100'000'000;
 constexpr long long kMaxMovieSize = 2'000'000;          // N x K: circles times key frames
 constexpr long long kMaxPairChecks = 10'000'000'000LL;  // (K + M) x N(N-1)/2: every pair, every collision
+// Sectors test only neighbours: about kSectorPairsPerCircle pairs per circle and event (with
+// cells near 2 CIRCLE_RADIUS), so (K + M) x N x that within the same bound.
+constexpr long long kSectorPairsPerCircle = 10;
 
 // The files the command writes, in this order.
 constexpr const char* kFiles[] = {"table.svg", "movie.svg"};
 
 constexpr const char* kUsage = "usage: billiard [TABLE_RADIUS CIRCLE_RADIUS N] [options]; see billiard --help";
-
-template <typename... Parts>
-std::string text(const Parts&... parts) {
-  std::ostringstream out;
-  (out << ... << parts);
-  return out.str();
-}
-
-// 2000000 -> "2,000,000".
-std::string thousands(long long number) {
-  std::string digits = std::to_string(number);
-  for (auto k = static_cast<std::ptrdiff_t>(digits.size()) - 3; k > 0; k -= 3) digits.insert(std::size_t(k), ",");
-  return digits;
-}
 
 std::string help() {
   return text(R"(billiard: N hard circles colliding elastically on a circular table.
@@ -86,45 +85,30 @@ options:
                          if missing); open them in a web browser
   -h, --help             this help
 
+extension stages (one at a time; each runs tasks 1-3, then the stage instead of tasks 4-6):
+  --gravity GX,GY        task 7: uniform gravity (GX, GY), e.g. --gravity 0,-1; the movie
+                         shows the parabolas; reports the drift of the mean energy
+  --walls FILE           task 8: straight walls inside the table, one per line of FILE:
+                         AX AY BX BY (its end points; # starts a comment); circles placed on a
+                         wall are moved off it
+  --cells SIZE           task 9: sectors, square cells of side SIZE >= 2 CIRCLE_RADIUS; reports
+                         the pair tests per collision against all pairs' N(N-1)/2
+
 limits, so that every run ends within minutes and no number overflows:
 )",
               "  TABLE_RADIUS and CIRCLE_RADIUS from ", kMinRadius, " to ", kMaxRadius, " (only their ratio matters)\n",
               "  N <= ", thousands(kMaxCircles), ", K <= ", thousands(kMaxCollisions),
               ", M <= ", thousands(kMaxDriftCollisions), "\n",
-              "  N x K <= ", thousands(kMaxMovieSize), " (the size of the movie)\n",
-              "  (K + M) x N(N-1)/2 <= ", thousands(kMaxPairChecks), " (every collision checks all pairs of circles)\n",
+              "  N x K <= ", thousands(kMaxMovieSize), " (the size of the movie; ", billiard_cli::StageMovie::kSamplesPerParabola,
+              " N x K under gravity)\n",
+              "  (K + M) x N(N-1)/2 <= ", thousands(kMaxPairChecks), " (every collision checks all pairs of circles;\n",
+              "  with --walls also N x walls; with --cells (K + M) x N x ", kSectorPairsPerCircle, " instead)\n",
+              "  |GX|, |GY| <= ", billiard_cli::kMaxGravity, ", at most ", billiard_cli::kMaxWalls, " walls, at most ",
+              billiard::checks::kMaxCellsAcross, " cells across the table\n",
               R"(exit status: 0 done; 1 a task is not implemented yet or failed; 2 bad input (one line on
 stderr, nothing written).
 )");
 }
-
-// Bad input: one line on stderr, exit status 2, nothing written.
-struct BadInput : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-// Text from the command line, the file system or a task, safe to print on one line: control
-// characters are escaped, and text longer than `longest` is cut short.
-std::string printable(std::string_view value, std::size_t longest = std::string_view::npos) {
-  std::string out;
-  for (std::size_t k = 0; k < value.size(); ++k) {
-    if (k == longest) return out + "...";
-    const auto byte = static_cast<unsigned char>(value[k]);
-    if (byte == '\n') {
-      out += "\\n";
-    } else if (byte == '\t') {
-      out += "\\t";
-    } else if (byte < 0x20 || byte == 0x7f) {
-      constexpr const char* kHex = "0123456789abcdef";
-      out += {'\\', 'x', kHex[byte >> 4], kHex[byte & 15]};
-    } else {
-      out += value[k];
-    }
-  }
-  return out;
-}
-
-std::string in_quotes(std::string_view value) { return "'" + printable(value, 100) + "'"; }
 
 // A radius: a plain decimal number (from_chars: no spaces, no hex, no inf or nan) in range.
 double parse_radius(std::string_view value, std::string_view name, std::string_view example) {
@@ -166,7 +150,23 @@ struct Options {
   long long drift_collisions = 10000;
   fs::path output = "billiard-output";
   bool help = false;
+  StageOptions stage;
+  std::string_view stage_option;  // the option that chose the stage
 };
+
+// The stage an option chooses; only one at a time.
+void choose_stage(Options& options, Stage stage, std::string_view option) {
+  if (options.stage.stage != Stage::None && options.stage.stage != stage) {
+    throw BadInput(text(options.stage_option, " and ", option, " choose two extension stages; give one of them (",
+                        kUsage, ")"));
+  }
+  if (!stage_built(stage)) {
+    throw BadInput(text(option, ": the ", stage_name(stage), " stage (task ", task_number(stage),
+                        ") is switched off in this course (tests/grader/course.txt)"));
+  }
+  options.stage.stage = stage;
+  options.stage_option = option;
+}
 
 Options parse(int argc, char** argv) {
   Options options;
@@ -186,7 +186,8 @@ Options parse(int argc, char** argv) {
     if (const auto equals = argument.find('='); equals != std::string_view::npos) {
       name = argument.substr(0, equals);
       value = argument.substr(equals + 1);
-    } else if (name == "--seed" || name == "--collisions" || name == "--drift-collisions" || name == "--output") {
+    } else if (name == "--seed" || name == "--collisions" || name == "--drift-collisions" || name == "--output" ||
+               name == "--gravity" || name == "--walls" || name == "--cells") {
       if (k + 1 >= argc) throw BadInput(text(name, " needs a value (", kUsage, ")"));
       value = argv[++k];
     }
@@ -199,6 +200,22 @@ Options parse(int argc, char** argv) {
     } else if (name == "--output") {
       if (value.empty()) throw BadInput(text("--output needs a folder name (", kUsage, ")"));
       options.output = fs::path(value);
+    } else if (name == "--gravity") {
+      choose_stage(options, Stage::Gravity, "--gravity");
+      options.stage.gravity = parse_gravity(value);
+    } else if (name == "--walls") {
+      choose_stage(options, Stage::Walls, "--walls");
+      if (value.empty()) throw BadInput(text("--walls needs a file name (", kUsage, ")"));
+      options.stage.walls_file = fs::path(value);
+    } else if (name == "--cells") {
+      choose_stage(options, Stage::Sectors, "--cells");
+      double size = 0;
+      const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), size);
+      if (error != std::errc() || end != value.data() + value.size() || !std::isfinite(size) || size <= 0) {
+        throw BadInput(text("--cells must be a positive number, the side of a cell (at least 2 CIRCLE_RADIUS), got ",
+                            in_quotes(value), " (", kUsage, ")"));
+      }
+      options.stage.cell_size = size;
     } else {
       throw BadInput(text("unknown option ", in_quotes(argument), " (", kUsage, ")"));
     }
@@ -216,20 +233,39 @@ Options parse(int argc, char** argv) {
                           in_quotes(numbers[0]), " for a circle to fit on the table (", kUsage, ")"));
     }
   }
-  const long long n = options.n, collisions = options.collisions;
-  if (n * collisions > kMaxMovieSize) {
-    throw BadInput(text("--collisions ", collisions, " with N = ", n, " makes too large a movie; use --collisions ",
-                        kMaxMovieSize / std::max(n, 1LL), " or fewer (N x K <= ", thousands(kMaxMovieSize), ")"));
+  const Stage stage = options.stage.stage;
+  if (stage == Stage::Sectors) {
+    const double size = options.stage.cell_size;
+    if (size < 2 * options.circle_radius) {
+      throw BadInput(text("--cells ", format(size), " must be at least 2 CIRCLE_RADIUS = ", format(2 * options.circle_radius),
+                          ", so that circles touch only circles in neighbouring cells"));
+    }
+    if (2 * options.table_radius / size > billiard::checks::kMaxCellsAcross) {
+      throw BadInput(text("--cells ", format(size), " makes ", format(2 * options.table_radius / size), " cells across the table (at most ",
+                          billiard::checks::kMaxCellsAcross, "); use --cells ",
+                          format(2 * options.table_radius / billiard::checks::kMaxCellsAcross), " or more"));
+    }
   }
-  const long long pairs = n * (n - 1) / 2, events = collisions + options.drift_collisions;
+  if (stage == Stage::Walls) options.stage.walls = read_walls(options.stage.walls_file, options.table_radius);
+  const long long n = options.n, collisions = options.collisions;
+  const long long frames = stage == Stage::Gravity ? billiard_cli::StageMovie::kSamplesPerParabola : 1;
+  if (n * collisions * frames > kMaxMovieSize) {
+    throw BadInput(text("--collisions ", collisions, " with N = ", n, " makes too large a movie; use --collisions ",
+                        kMaxMovieSize / std::max(n * frames, 1LL), " or fewer (N x K <= ", thousands(kMaxMovieSize),
+                        frames > 1 ? text(", ", frames, " frames per collision under gravity") : std::string(), ")"));
+  }
+  const long long walls = static_cast<long long>(options.stage.walls.size());
+  const long long pairs = stage == Stage::Sectors ? n * kSectorPairsPerCircle : n * (n - 1) / 2 + n * walls;
+  const long long events = collisions + options.drift_collisions;
   if (pairs > 0 && events > kMaxPairChecks / pairs) {
     const long long most = kMaxPairChecks / pairs;
     throw BadInput(text("--collisions ", collisions, " and --drift-collisions ", options.drift_collisions,
                         " with N = ", n, " make too long a run; use ",
                         collisions <= most ? text("--drift-collisions ", most - collisions)
                                            : text("--collisions and --drift-collisions adding up to ", most),
-                        " or fewer ((K + M) x N(N-1)/2 <= ", thousands(kMaxPairChecks),
-                        ": every collision checks all pairs)"));
+                        " or fewer (", stage == Stage::Sectors ? text("(K + M) x N x ", kSectorPairsPerCircle) : std::string("(K + M) x N(N-1)/2"),
+                        " <= ", thousands(kMaxPairChecks), ": every collision checks ",
+                        stage == Stage::Sectors ? "the neighbours of every circle" : "all pairs", ")"));
   }
   return options;
 }
@@ -346,13 +382,6 @@ class Staging {
   std::vector<std::string> cleanup_;  // for remove_partial_output
 };
 
-std::string format(double value, int precision = 6) {
-  std::ostringstream out;
-  out.precision(precision);
-  out << value;
-  return out.str();
-}
-
 // What each task did, printed in task order at the end (the movie, task 5, runs before the
 // further collisions of task 4). A task that cannot run because an earlier one is missing
 // says which one it waits for.
@@ -371,7 +400,7 @@ class Report {
   }
   // Prints the tasks, moves the files into place and says what was written; the exit status.
   int finish(Staging& staging) const {
-    for (int task = 1; task <= 6; ++task) {
+    for (int task = 1; task <= kTasks; ++task) {
       std::string label = "  task " + std::to_string(task) + " " + kNames[index(task)];
       label.resize(kLabelWidth, ' ');
       for (const auto& line : lines_[index(task)]) {
@@ -387,11 +416,13 @@ class Report {
   }
 
  private:
-  static constexpr const char* kNames[6] = {"init_billiard", "init_velocities", "visualize_table",
-                                            "propagate",     "movie",           "kinetic_energy"};
+  static constexpr int kTasks = 9;  // the six tasks and the three extension stages
+  static constexpr const char* kNames[kTasks] = {"init_billiard", "init_velocities", "visualize_table",
+                                                 "propagate",     "movie",           "kinetic_energy",
+                                                 "gravity",       "walls",           "sectors"};
   static std::size_t index(int task) { return static_cast<std::size_t>(task - 1); }
   static constexpr std::size_t kLabelWidth = 27;  // "  task 2 init_velocities" and a gap
-  std::vector<std::string> lines_[6];
+  std::vector<std::string> lines_[kTasks];
   int first_failed_ = 0;  // 0: none
 };
 
@@ -399,6 +430,77 @@ class Report {
 int task_of(const std::exception& error, int task) {
   const auto* missing = dynamic_cast<const billiard::NotImplemented*>(&error);
   return missing != nullptr ? missing->task_number() : task;
+}
+
+// An extension stage after tasks 1-3: a movie of K events drawn by the command, M more events,
+// and what the stage conserves (gravity: the mean energy, task 7's mean_energy; walls: <v^2>,
+// task 6's kinetic_energy) or, for sectors, the pair tests per collision (pair_time's count).
+void run_stage(const Options& options, billiard::Coordinates& coordinates, billiard::Velocities& velocities,
+               Report& report, Staging& staging) {
+  using namespace billiard;
+  const StageOptions& stage = options.stage;
+  const int task = task_number(stage.stage), n = options.n;
+  const double table_radius = options.table_radius, circle_radius = options.circle_radius;
+  const Vector g = stage.stage == Stage::Gravity ? stage.gravity : Vector::Zero();
+  const bool moving = n > 0 && (velocities.squaredNorm() > 0 || g.squaredNorm() > 0);
+  if (!moving) {
+    report.done(task, "nothing moves, so nothing collides");
+    return;
+  }
+  // What the run conserves, before it.
+  const auto conserved = [&]() {
+#ifdef BILLIARD_WITH_GRAVITY
+    if (stage.stage == Stage::Gravity) return mean_energy(n, coordinates, velocities, g);
+#endif
+    return kinetic_energy(n, velocities);
+  };
+  const int conserved_task = stage.stage == Stage::Gravity ? 7 : 6;
+  const char* conserved_name = stage.stage == Stage::Gravity ? "mean energy" : "<v^2>";
+  std::optional<double> before;
+  try {
+    before = conserved();
+  } catch (const std::exception& error) {
+    report.failed(task_of(error, conserved_task), error);
+  }
+  try {
+    StageMovie recording(table_radius, circle_radius, coordinates);
+    double elapsed = 0;
+    for (int k = 0; k < options.collisions; ++k) {
+      const Coordinates start = coordinates;
+      const Velocities start_velocities = velocities;
+      const Collision event = stage_step(stage, table_radius, circle_radius, n, coordinates, velocities);
+      recording.flight(start, start_velocities, g, event.time, coordinates);
+      elapsed += event.time;
+    }
+    recording.write(staging.file("movie.svg"), stage.walls);
+    report.done(task, text("recorded ", options.collisions, " collisions", stage.stage == Stage::Gravity ? " (parabolas sampled between them)" : "",
+                           ": movie.svg"));
+    const long long pair_tests_before = pair_time_calls();
+    for (long long k = 0; k < options.drift_collisions; ++k) {
+      elapsed += stage_step(stage, table_radius, circle_radius, n, coordinates, velocities).time;
+    }
+    report.done(task, text(options.drift_collisions, " more collisions, simulated time ", format(elapsed)));
+    if (stage.stage == Stage::Sectors && options.drift_collisions > 0) {
+      const double per_collision = double(pair_time_calls() - pair_tests_before) / double(options.drift_collisions);
+      const double all_pairs = 0.5 * n * (n - 1);
+      report.done(task, text("pair tests per collision: ", format(per_collision, 4), " (all pairs: ", format(all_pairs, 7),
+                             per_collision > 0 ? text(", ", format(all_pairs / per_collision, 3), "x fewer)")
+                                               : std::string("; none counted: test pairs with pair_time)")));
+    }
+  } catch (const std::exception& error) {
+    report.failed(task_of(error, task), error);
+    return;
+  }
+  if (before) {
+    try {
+      const double after = conserved();
+      const double scale = std::abs(*before) > 0 ? std::abs(*before) : 1.0;
+      report.done(conserved_task, text(conserved_name, " before ", format(*before, 12), ", after ", format(after, 12),
+                                       ", relative drift ", format(std::abs(after - *before) / scale, 3)));
+    } catch (const std::exception& error) {
+      report.failed(task_of(error, conserved_task), error);
+    }
+  }
 }
 
 int run(const Options& options, Staging& staging) {
@@ -424,9 +526,16 @@ int run(const Options& options, Staging& staging) {
             << " on a table of radius " << table_radius << " (area fraction "
             << format(n * circle_radius * circle_radius / (table_radius * table_radius), 3) << "), seed "
             << options.seed << "\n";
+  const Stage stage = options.stage.stage;
   if (!coordinates) {
-    for (int task = 2; task <= 6; ++task) report.waits(task, 1);
+    for (int task : stage == Stage::None ? std::vector<int>{2, 3, 4, 5, 6} : std::vector<int>{2, 3, task_number(stage)}) {
+      report.waits(task, 1);
+    }
     return report.finish(staging);
+  }
+  if (stage == Stage::Walls) {
+    const int moved = place_clear_of_walls(table_radius, circle_radius, *coordinates, options.stage.walls, rng);
+    if (moved > 0) report.done(1, text("(the command moved ", moved, moved == 1 ? " circle" : " circles", " off the walls)"));
   }
 
   std::optional<Velocities> velocities;
@@ -443,7 +552,13 @@ int run(const Options& options, Staging& staging) {
     report.failed(3, error);
   }
   if (!velocities) {
-    for (int task : {4, 5, 6}) report.waits(task, 2);
+    for (int task : stage == Stage::None ? std::vector<int>{4, 5, 6} : std::vector<int>{task_number(stage)}) {
+      report.waits(task, 2);
+    }
+    return report.finish(staging);
+  }
+  if (stage != Stage::None) {
+    run_stage(options, *coordinates, *velocities, report, staging);
     return report.finish(staging);
   }
 
