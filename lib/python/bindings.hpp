@@ -26,6 +26,7 @@ pybind11::array_t<double> to_numpy(const Rows2& matrix);
 std::string short_repr(const pybind11::handle& value);
 
 void bind_course(pybind11::module_& m);
+void bind_stages(pybind11::module_& parent);
 void bind_simulation(pybind11::module_& m);
 
 }  // namespace billiard::python

@@ -88,6 +88,7 @@ PYBIND11_MODULE(_billiard, m) {
     }
   });
   billiard::python::bind_course(m);
+  billiard::python::bind_stages(m);
 #ifdef BILLIARD_PYTHON_SIMULATION
   billiard::python::bind_simulation(m);
 #endif

@@ -10,6 +10,9 @@ chose; see ``billiard.course_implementation``) work on numpy arrays of shape (n,
     >>> billiard.propagate(10.0, 1.0, coordinates, velocities)   # in place, like C++
     Collision(time=..., circle=..., other=...)
 
+The extension stages (tasks 7-9) this build has are in ``billiard.stages`` (its ``available``
+lists them): ``propagate_gravity``, ``mean_energy``, ``propagate_walls``, ``propagate_sectors``.
+
 Drawing and animation: ``billiard.plotting`` (matplotlib). Errors in arguments arrive as
 ValueError with the library's message, naming the argument; an argument of the wrong Python type
 (a string for a number, a list where a numpy array is required, an int beyond the C++ parameter's
@@ -34,6 +37,7 @@ from ._billiard import (  # noqa: F401  (re-exported)
     visualize_table,
 )
 from . import _billiard
+from ._billiard import stages  # noqa: F401  (the extension stages this build has: stages.available)
 
 if hasattr(_billiard, "Simulation"):
     from ._billiard import DISC_DISC, DISC_WALL, SLEEP, WAKE, Simulation  # noqa: F401
@@ -68,5 +72,5 @@ if hasattr(_billiard, "Simulation"):
 
 __all__ = [
     "DISC_DISC", "DISC_WALL", "SLEEP", "WAKE", "Simulation", "WALL", "Collision", "Rng", "correct_energy_drift", "course_implementation", "init_billiard",
-    "init_velocities", "kinetic_energy", "movie", "propagate", "visualize_table",
+    "init_velocities", "kinetic_energy", "movie", "propagate", "stages", "visualize_table",
 ]
