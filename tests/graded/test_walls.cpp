@@ -189,16 +189,17 @@ std::function<std::string(const Collision&)> face_hint(double time, const char* 
 // 1. Hand-computed cases.
 
 GRADED_TEST(Walls, CircleFromCentreHitsWallFaceAtTimeThree, 2, visible) {
-  // Wall along y = 4 from x = -5 to 5; a circle of radius 1 from the origin moving (0, 1)
+  // Wall along y = 4 from x = 5 to -5; a circle of radius 1 from the origin moving (0, 1)
   // touches it when its centre reaches y = 3: time 3. Head-on, so it comes back with (0, -1).
-  WallTable t = one_circle(0, 0, 0, 1, {wall(-5, 4, 5, 4)});
+  WallTable t = one_circle(0, 0, 0, 1, {wall(5, 4, -5, 4)});
   expect_wall_hit(t, 0, 3, 0, 3, 0, -1, "a circle from (0, 0) moving (0, 1) towards a wall along y = 4",
                   face_hint(3, kHintFaceTime), kHintFaceReflection);
 }
 
 GRADED_TEST(Walls, CircleHitsTheOtherFaceOfTheWall, 2, visible) {
   // The same wall from above: from (0, 8) moving (0, -1) the centre reaches y = 5 at time 3.
-  WallTable t = one_circle(0, 8, 0, -1, {wall(-5, 4, 5, 4)});
+  // (Its signed distance d0 = (r - a).n has the opposite sign to the previous test's.)
+  WallTable t = one_circle(0, 8, 0, -1, {wall(5, 4, -5, 4)});
   expect_wall_hit(t, 0, 3, 0, 5, 0, 1, "a circle from (0, 8) moving (0, -1) towards the upper face of a wall along y = 4",
                   face_hint(3, kHintBothFaces), kHintFaceReflection);
 }
@@ -314,7 +315,7 @@ GRADED_TEST(Walls, CircleSlidingAlongAWallNeverHitsIt, 2, after_due_date) {
 GRADED_TEST(Walls, NoRecollisionRightAfterAFaceHit, 2, after_due_date) {
   // After the hit of CircleFromCentreHitsWallFaceAtTimeThree the circle leaves (0, 3) with
   // (0, -1): the next event is the rim at (0, -9), 12 later.
-  WallTable t = one_circle(0, 0, 0, 1, {wall(-5, 4, 5, 4)});
+  WallTable t = one_circle(0, 0, 0, 1, {wall(5, 4, -5, 4)});
   step(t);
   const Collision got = step(t);
   EXPECT_TRUE(got.circle == 0 && got.other == kWall && near(got.time, 12))
