@@ -475,10 +475,10 @@ std::string library_hint(const std::string& what, bool wall_event) {
 }
 
 GRADED_TEST(Walls, MatchesTheLibraryStepByStepOnRandomWallLayouts, 3, after_due_date) {
-  // 40 random tables (R from 1 to 250, 1 to 20 circles, 1 to 4 walls, speeds 0.02 to 30; chains,
-  // crossings, V shapes, walls from the rim), 60 steps each.
-  for (int k = 0; k < 40; ++k) {
-    if (!billiard::testing::matches_library(billiard::testing::random_wall_table(k, 0), 60, library_hint)) return;
+  // 60 random tables (R from 1 to 250, 1 to 20 circles, 1 to 4 walls, speeds 0.02 to 30; chains,
+  // crossings, V shapes, walls from the rim), 100 steps each.
+  for (int k = 0; k < 60; ++k) {
+    if (!billiard::testing::matches_library(billiard::testing::random_wall_table(k, 0), 100, library_hint)) return;
   }
 }
 
