@@ -522,20 +522,23 @@ int run(const Options& options, Staging& staging) {
     throw BadInput(printable(error.what()));
   }
 
+  // Circles on a wall are moved off it before anything is printed: when they cannot all fit
+  // between the walls, that is bad input.
+  const Stage stage = options.stage.stage;
+  if (stage == Stage::Walls && coordinates) {
+    const int moved = place_clear_of_walls(table_radius, circle_radius, *coordinates, options.stage.walls, rng);
+    if (moved > 0) report.done(1, text("(the command moved ", moved, moved == 1 ? " circle" : " circles", " off the walls)"));
+  }
+
   std::cout << "billiard: " << n << (n == 1 ? " circle" : " circles") << " of radius " << circle_radius
             << " on a table of radius " << table_radius << " (area fraction "
             << format(n * circle_radius * circle_radius / (table_radius * table_radius), 3) << "), seed "
             << options.seed << "\n";
-  const Stage stage = options.stage.stage;
   if (!coordinates) {
     for (int task : stage == Stage::None ? std::vector<int>{2, 3, 4, 5, 6} : std::vector<int>{2, 3, task_number(stage)}) {
       report.waits(task, 1);
     }
     return report.finish(staging);
-  }
-  if (stage == Stage::Walls) {
-    const int moved = place_clear_of_walls(table_radius, circle_radius, *coordinates, options.stage.walls, rng);
-    if (moved > 0) report.done(1, text("(the command moved ", moved, moved == 1 ? " circle" : " circles", " off the walls)"));
   }
 
   std::optional<Velocities> velocities;

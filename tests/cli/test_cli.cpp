@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <climits>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -327,7 +328,11 @@ TEST_F(Cli, WallOutsideTheTableIsRefused) {
 }
 TEST_F(Cli, CirclesThatCannotFitBetweenTheWallsAreRefused) {
   std::ofstream out(folder_ / "walls.txt");
-  for (int k = -9; k <= 9; ++k) out << k << " -9 " << k << " 9\n";  // a wall every 1: no room for radius 1
+  // A wall every 1 across the whole table (chords that end 0.01 short of the rim): no room for radius 1.
+  for (int k = -9; k <= 9; ++k) {
+    const double h = std::sqrt(100.0 - k * k) - 0.01;
+    out << k << " " << -h << " " << k << " " << h << "\n";
+  }
   out.close();
   expect_refused({"10", "1", "5", "--walls", (folder_ / "walls.txt").string()}, "do not fit between the walls");
 }
