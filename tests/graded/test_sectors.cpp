@@ -183,13 +183,25 @@ GRADED_TEST(Sectors, PairMeetsAfterCrossings, 3, visible) {
   // R = 10, a = 0.5, cell_size = 2a = 1: faces at the integers. Circle 0 from x = -3.25
   // crosses x = -3, -2, -1 (times 0.25, 1.25, 2.25) before circle 1, at rest at x = 0.25
   // three cells away, is in a neighbouring cell; they touch when 1 apart, after time 2.5.
-  SectorTable t = table(10, 0.5, 1, {-3.25, 0.2, 1, 0, 0.25, 0.2, 0, 0});
+  // Circle 2 reaches the wall at time 3: a pair found only by later crossings comes too late.
+  SectorTable t = table(10, 0.5, 1, {-3.25, 0.2, 1, 0, 0.25, 0.2, 0, 0, 0, -6.5, 0, -1});
   if (!expect_event(t, 0, 1, 2.5, "circle 0 from (-3.25, 0.2) moving (1, 0) towards circle 1 at rest at (0.25, 0.2)",
                     kHintCrossing)) {
     return;
   }
   expect_row(t.c, 0, -0.75, 0.2, "circle 0 at the collision", kHintPairTime);
   expect_row(t.v, 1, 1, 0, "circle 1's velocity after being hit head-on", kHintPairTime);
+}
+
+GRADED_TEST(Sectors, CrossingTimesComeFromTheFaceAhead, 2, after_due_date) {
+  // Faces at the integers. Circle 1 drifts slowly right in cell [0, 1) x [0, 1) and leaves it
+  // only at time 10; circle 0 moves up from (-0.2, -2.5), crossing y = -2, -1, 0 at times
+  // 0.5, 1.5, 2.5. They touch when (0.7 + 0.05 t)^2 + (2.8 - t)^2 = 1, i.e.
+  // 1.0025 t^2 - 5.53 t + 7.33 = 0, at the smaller root (about 2.215).
+  SectorTable t = table(10, 0.5, 1, {-0.2, -2.5, 0, 1, 0.5, 0.3, 0.05, 0});
+  const double A = 1.0025, B = -5.53, C = 7.33;
+  expect_event(t, 0, 1, (-B - std::sqrt(B * B - 4 * A * C)) / (2 * A),
+               "circle 0 from (-0.2, -2.5) moving (0, 1) and circle 1 from (0.5, 0.3) moving (0.05, 0)", kHintCrossing);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -205,8 +217,15 @@ GRADED_TEST(Sectors, CrossingCircleFindsACircleWithASmallerIndex, 2, after_due_d
 GRADED_TEST(Sectors, BothCirclesCrossBeforeTheyMeet, 2, after_due_date) {
   // Circles 10 cells apart close at speed 2; each crosses 4 faces before they touch at time
   // 4.5 (centres at -0.5 and 0.5). They become neighbours only after both have moved.
-  SectorTable t = table(10, 0.5, 1, {-5, 0.3, 1, 0, 5, 0.3, -1, 0});
+  // Circle 2 reaches the wall at time 5, before the circles would find each other where they
+  // started.
+  SectorTable t = table(10, 0.5, 1, {-5, 0.3, 1, 0, 5, 0.3, -1, 0, 0, -4.5, 0, -1});
   expect_event(t, 0, 1, 4.5, "circles at (-5, 0.3) and (5, 0.3) closing at speed 2, cell_size = 1", kHintCellLists);
+  // Two circles crossing cells at right angles: circle 0 along y = 0.2, circle 1 along
+  // x = 0.2; they touch when sqrt(2) |t - 3.45| = 1, after time 3.45 - 1/sqrt(2).
+  SectorTable p = table(10, 0.5, 1, {-3.25, 0.2, 1, 0, 0.2, -3.25, 0, 1});
+  expect_event(p, 0, 1, 3.45 - 1 / std::sqrt(2.0), "circle 0 moving (1, 0) from (-3.25, 0.2) and circle 1 moving "
+               "(0, 1) from (0.2, -3.25)", kHintCellLists);
   // Three movers: circles 0 and 2 overtake circle 1 from both sides.
   SectorTable u = table(10, 0.5, 1, {-6.5, -2.5, 2, 0, -1.5, -2.5, 0.5, 0, 6.5, -2.5, -1, 0});
   // Circle 0 catches up with circle 1 (gap 5 - 1 = 4 at relative speed 1.5) at 8/3; circle 2
