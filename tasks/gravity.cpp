@@ -17,15 +17,17 @@
 //      where f crosses zero UPWARD (the circle moving out). Traps:
 //      - Right after a wall bounce the circle sits on the wall: f(0) is 0 up to rounding, maybe
 //        a hair positive, and f is falling (moving in). That root near t = 0 is no hit; a
-//        "smallest positive root" returns ~1e-16 and the circle bounces again and escapes.
+//        "smallest positive root" returns ~1e-16 and the circle hits the wall again at once.
 //      - A circle on (or a hair outside) the wall that moves out (f(0) >= 0, f'(0) = 2 r.v > 0)
 //        must bounce now: return time 0.
 //      - An arc that just grazes the wall has two roots very close together (a double root when
 //        it only touches). Sampling f at fixed steps can step over the short time outside, and
 //        the closed-form quartic formula loses most of its digits there: do not use either.
 //      A robust method: first bound the search. |r(t)| >= |g| t^2/2 - |v| t - |r|, so once
-//      |g| t^2/2 - |v| t - |r| >= L the circle is surely outside: take t_max, the larger root of
-//      |g|/2 t^2 - |v| t - (|r| + L) = 0. Then split [0, t_max] at the roots of f' (a cubic):
+//      |g| t^2/2 - |v| t - |r| >= L the circle is surely outside: the larger root T of
+//      |g|/2 t^2 - |v| t - (|r| + L) = 0 bounds the hit. The bound is tight (a circle dropped
+//      from rest at the centre arrives exactly at T), so search [0, t_max] with t_max = 2 T,
+//      lest rounding put the root a hair beyond. Split [0, t_max] at the roots of f' (a cubic):
 //      between them f is monotone and crosses zero at most once. Find the roots of f' the same
 //      way (split at the roots of f'', a quadratic, and bisect each piece where f' changes
 //      sign). Take the first piece where f goes from < 0 to >= 0 and bisect it until the two
