@@ -101,6 +101,9 @@ double time_to_wall(const Vector& r, const Vector& v, const Vector& g, double re
   // rest at the centre arrives exactly at T), so search up to 2 T, lest rounding put it beyond.
   const double speed = v.norm();
   const double t_max = 2 * (speed + std::sqrt(speed * speed + 2 * g.norm() * (r.norm() + reach))) / g.norm();
+  // A g so weak that |g|^2 underflows (|g| < 1e-154) has norm 0 and no finite bound; its pull is
+  // far below rounding then: fly straight (this also keeps the bisections below finite).
+  if (!(t_max < kNever)) return time_to_wall_straight(r, v, reach);
   // Each monotone piece of f crosses zero at most once: look for the first piece that starts
   // inside (f < 0) and ends on or outside the wall (f >= 0). Sampling f at fixed steps instead
   // would step over a near-grazing arc that leaves the table for only a moment.
