@@ -483,8 +483,8 @@ void run_stage(const Options& options, billiard::Coordinates& coordinates, billi
     if (stage.stage == Stage::Sectors && options.drift_collisions > 0) {
       const double per_collision = double(pair_time_calls() - pair_tests_before) / double(options.drift_collisions);
       const double all_pairs = 0.5 * n * (n - 1);
-      report.done(task, text("pair tests per collision: ", format(per_collision, 4), " (all pairs: ", format(all_pairs, 7),
-                             per_collision > 0 ? text(", ", format(all_pairs / per_collision, 3), "x fewer)")
+      report.done(task, text("pair tests per collision: ", format(per_collision, 4), " (all pairs: ", thousands(std::llround(all_pairs)),
+                             per_collision > 0 ? text(", ", thousands(std::llround(all_pairs / per_collision)), "x fewer)")
                                                : std::string("; none counted: test pairs with pair_time)")));
     }
   } catch (const std::exception& error) {
