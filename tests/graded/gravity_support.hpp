@@ -34,15 +34,6 @@ struct GravityTable {
   int n() const { return static_cast<int>(c.rows()); }
 };
 
-inline std::string describe_collision(const Collision& c) {
-  if (c.other == kWall) {
-    return text("Collision{time = ", c.time, ", circle = ", c.circle, ", other = kWall} (circle ", c.circle,
-                " hits the wall after time ", c.time, ")");
-  }
-  return text("Collision{time = ", c.time, ", circle = ", c.circle, ", other = ", c.other, "} (circles ", c.circle,
-              " and ", c.other, " collide after time ", c.time, ")");
-}
-
 inline std::string describe_pair_or_wall(int circle, int other) {
   return other == kWall ? text("circle ", circle, " with the wall") : text("circles ", circle, " and ", other);
 }

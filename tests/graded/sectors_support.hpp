@@ -31,15 +31,6 @@ struct SectorTable {
   int n() const { return static_cast<int>(c.rows()); }
 };
 
-inline std::string describe_collision(const Collision& c) {
-  if (c.other == kWall) {
-    return text("Collision{time = ", c.time, ", circle = ", c.circle, ", other = kWall} (circle ", c.circle,
-                " hits the wall after time ", c.time, ")");
-  }
-  return text("Collision{time = ", c.time, ", circle = ", c.circle, ", other = ", c.other, "} (circles ", c.circle,
-              " and ", c.other, " collide after time ", c.time, ")");
-}
-
 // R / (root of the sum of squared speeds): a time scale that collisions do not change.
 inline double sector_time_scale(const SectorTable& t) { return t.R / std::sqrt(t.v.squaredNorm()); }
 

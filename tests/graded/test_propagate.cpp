@@ -25,6 +25,7 @@ using billiard::Collision;
 using billiard::Coordinates;
 using billiard::kWall;
 using billiard::Velocities;
+using billiard::testing::describe_collision;
 using billiard::testing::explain;
 using billiard::testing::row;
 using billiard::testing::text;
@@ -41,22 +42,13 @@ struct Table {
   int n() const { return static_cast<int>(c.rows()); }
 };
 
-std::string describe(const Collision& c) {
-  if (c.other == kWall) {
-    return text("Collision{time = ", c.time, ", circle = ", c.circle, ", other = kWall} (circle ", c.circle,
-                " hits the wall after time ", c.time, ")");
-  }
-  return text("Collision{time = ", c.time, ", circle = ", c.circle, ", other = ", c.other, "} (circles ", c.circle,
-              " and ", c.other, " collide after time ", c.time, ")");
-}
-
 // Calls the student's propagate. Two results are wrong in every test, a negative time (an event
 // in the past) and a circle paired with itself; they are reported here, before a test's own
 // checks report what followed from them, so that the first message names the mistake.
 Collision step(Table& t) {
   const Collision got = billiard::propagate(t.R, t.a, t.n(), t.c, t.v);
   if (got.time < 0) {
-    ADD_FAILURE() << explain("the time until the next collision, which is never negative", text("returned ", describe(got)),
+    ADD_FAILURE() << explain("the time until the next collision, which is never negative", text("returned ", describe_collision(got)),
                              "a negative time is a contact in the past: pairs moving apart (b = dr.dv >= 0) never "
                              "collide, and for approaching pairs take the first-contact root t = c / (-b + sqrt(d)), "
                              "clamped to 0; the textbook root (-b - sqrt(d)) / |dv|^2 of a pair moving apart is "
@@ -64,7 +56,7 @@ Collision step(Table& t) {
   }
   if (got.other == got.circle) {
     ADD_FAILURE() << explain("a collision of two different circles, or of a circle with the wall",
-                             text("returned ", describe(got)),
+                             text("returned ", describe_collision(got)),
                              "loop over pairs j > i (or skip j == i): a circle cannot collide with itself.");
   }
   return got;
@@ -86,7 +78,7 @@ void expect_row(const Eigen::Matrix<double, Eigen::Dynamic, 2>& rows, int i, dou
 void expect_time(const Collision& got, double expected, double tolerance, const std::string& situation,
                  const std::string& hint) {
   EXPECT_NEAR(got.time, expected, tolerance)
-      << explain(text("the collision time ", expected, " for ", situation), text("returned ", describe(got)), hint);
+      << explain(text("the collision time ", expected, " for ", situation), text("returned ", describe_collision(got)), hint);
 }
 
 const char* const kHintEarliest =
@@ -122,7 +114,7 @@ GRADED_TEST(Propagate, CircleFromCentreHitsWallAtTimeNine, 2, visible) {
   t.c << 0, 0;
   t.v << 1, 0;
   const Collision got = step(t);
-  EXPECT_TRUE(is_wall(got, 0)) << explain("circle 0 to hit the wall (other == kWall)", text("returned ", describe(got)),
+  EXPECT_TRUE(is_wall(got, 0)) << explain("circle 0 to hit the wall (other == kWall)", text("returned ", describe_collision(got)),
                                           kHintWallTime);
   expect_time(got, 9, kTol, "a circle at the centre moving (1, 0) on a table R = 10 with a = 1", kHintWallTime);
   expect_row(t.c, 0, 9, 0, kTol, "the circle's position after the step",
@@ -137,7 +129,7 @@ GRADED_TEST(Propagate, HeadOnCollisionAtTimeFour, 2, visible) {
   t.v << 1, 0, -1, 0;
   const Collision got = step(t);
   EXPECT_TRUE(is_pair(got, 0, 1)) << explain("circles 0 and 1 to collide (in either order)",
-                                             text("returned ", describe(got)), kHintPairTime);
+                                             text("returned ", describe_collision(got)), kHintPairTime);
   expect_time(got, 4, kTol, "circles at (-5, 0) and (5, 0) moving towards each other at speed 1", kHintPairTime);
   expect_row(t.c, 0, -1, 0, kTol, "circle 0's position at the collision", kHintMoveAll);
   expect_row(t.c, 1, 1, 0, kTol, "circle 1's position at the collision", kHintMoveAll);
@@ -155,7 +147,7 @@ GRADED_TEST(Propagate, ObliqueCollisionExchangesOnlyNormalComponents, 3, after_d
   t.c << -4, 1, 0, 0;
   t.v << 1, 0, 0, 0;
   const Collision got = step(t);
-  ASSERT_TRUE(is_pair(got, 0, 1)) << explain("circles 0 and 1 to collide", text("returned ", describe(got)),
+  ASSERT_TRUE(is_pair(got, 0, 1)) << explain("circles 0 and 1 to collide", text("returned ", describe_collision(got)),
                                              kHintPairTime);
   expect_time(got, 4 - s3, kTol, "an off-centre hit of a resting circle", kHintPairTime);
   expect_row(t.v, 0, 0.25, s3 / 4, kTol, "the moving circle's velocity after an off-centre hit", kHintSwap);
@@ -170,7 +162,7 @@ GRADED_TEST(Propagate, ObliqueWallHitReflectsOnlyNormalComponent, 3, after_due_d
   t.c << 0, 3;
   t.v << 1, 0;
   const Collision got = step(t);
-  ASSERT_TRUE(is_wall(got, 0)) << explain("circle 0 to hit the wall", text("returned ", describe(got)), kHintWallTime);
+  ASSERT_TRUE(is_wall(got, 0)) << explain("circle 0 to hit the wall", text("returned ", describe_collision(got)), kHintWallTime);
   expect_time(got, 4, kTol, "a circle from (0, 3) moving (1, 0) on a table R = 6 with a = 1", kHintWallTime);
   expect_row(t.c, 0, 4, 3, kTol, "the point of contact", kHintMoveAll);
   expect_row(t.v, 0, -7.0 / 25, -24.0 / 25, kTol, "the velocity after an oblique wall hit", kHintWallReflection);
@@ -201,7 +193,7 @@ GRADED_TEST(Propagate, SingleCircleBouncesWithConstantChordTime, 2, after_due_da
         ADD_FAILURE() << explain(
             text("a single circle (R = ", k.R, ", a = ", k.a, ", start ", k.x, ", ", k.y, ", velocity ", k.vx, ", ",
                  k.vy, ") to hit the wall every 2 sqrt((R - a)^2 - d^2) / |v| = ", chord_time, " time units"),
-            text("bounce ", bounce, " returned ", describe(got)),
+            text("bounce ", bounce, " returned ", describe_collision(got)),
             "after each wall hit the circle crosses the table along a chord of the circle of radius R - a; check "
             "the wall time (positive root of |r + v t| = R - a) and the reflection v' = v - 2 (v.n) n.");
         break;
@@ -221,7 +213,7 @@ GRADED_TEST(Propagate, WallHitBeforeCircleCollisionIsChosen, 2, after_due_date) 
   const Collision got = step(t);
   EXPECT_TRUE(is_wall(got, 2) && std::abs(got.time - 2) <= kTol)
       << explain("circle 2 to hit the wall at time 2, before circles 0 and 1 collide at time 4",
-                 text("returned ", describe(got)), kHintEarliest);
+                 text("returned ", describe_collision(got)), kHintEarliest);
 }
 
 GRADED_TEST(Propagate, CircleCollisionBeforeWallHitIsChosen, 2, after_due_date) {
@@ -232,7 +224,7 @@ GRADED_TEST(Propagate, CircleCollisionBeforeWallHitIsChosen, 2, after_due_date) 
   const Collision got = step(t);
   EXPECT_TRUE(is_pair(got, 1, 2) && std::abs(got.time - 4) <= kTol)
       << explain("circles 1 and 2 to collide at time 4, before circle 0 hits the wall at time 5",
-                 text("returned ", describe(got)), kHintEarliest);
+                 text("returned ", describe_collision(got)), kHintEarliest);
 }
 
 GRADED_TEST(Propagate, EarliestOfSeveralCirclePairsIsChosen, 2, after_due_date) {
@@ -244,7 +236,7 @@ GRADED_TEST(Propagate, EarliestOfSeveralCirclePairsIsChosen, 2, after_due_date) 
   const Collision got = step(t);
   EXPECT_TRUE(is_pair(got, 1, 4) && std::abs(got.time - 1) <= kTol)
       << explain("circles 1 and 4 to collide at time 1 (pairs (2, 5) and (0, 3) meet only at times 2 and 3)",
-                 text("returned ", describe(got)), kHintEarliest);
+                 text("returned ", describe_collision(got)), kHintEarliest);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -256,7 +248,7 @@ GRADED_TEST(Propagate, EveryCircleMovesDuringTheStep, 2, after_due_date) {
   t.c << -5, 0, 5, 0, 0, -6, -3, 5;
   t.v << 1, 0, -1, 0, 0.5, 0, 0, -0.25;
   const Collision got = step(t);
-  ASSERT_TRUE(is_pair(got, 0, 1)) << explain("circles 0 and 1 to collide at time 4", text("returned ", describe(got)),
+  ASSERT_TRUE(is_pair(got, 0, 1)) << explain("circles 0 and 1 to collide at time 4", text("returned ", describe_collision(got)),
                                              kHintEarliest);
   expect_row(t.c, 2, 2, -6, kTol, "bystander circle 2 (from (0, -6) with velocity (0.5, 0)) after time 4",
              kHintMoveAll);
@@ -276,7 +268,7 @@ GRADED_TEST(Propagate, CirclesAtRestStayPut, 2, after_due_date) {
   const Collision got = step(t);
   EXPECT_TRUE(is_pair(got, 0, 1) && std::abs(got.time - 4) <= kTol)
       << explain("circles 0 and 1 to collide at time 4; the resting circles 2 and 3 are never involved",
-                 text("returned ", describe(got)),
+                 text("returned ", describe_collision(got)),
                  "a circle at rest (v = 0) never reaches the wall: skip it (its wall time is infinite) instead of "
                  "dividing by |v|^2 = 0.");
   expect_row(t.c, 2, 0, 6, kTol, "resting circle 2 to stay at (0, 6)", "a circle with v = 0 does not move.");
@@ -345,7 +337,7 @@ GRADED_TEST(Propagate, ReportsValidIndicesAndNeverACircleWithItself, 2, after_du
         ADD_FAILURE() << explain(
             text("`circle` to be a row index 0..", n - 1, " and `other` another circle's index or kWall = -1 (", s.label,
                  ", step ", e, ")"),
-            text("returned ", describe(got)),
+            text("returned ", describe_collision(got)),
             got.circle == got.other ? "loop over pairs j > i (or skip j == i): a circle cannot collide with itself."
                                     : "return the indices of the colliding circles, and kWall for the wall.");
         return;
@@ -365,7 +357,7 @@ GRADED_TEST(Propagate, CirclesMovingApartDoNotCollide, 2, after_due_date) {
   const Collision got = step(t);
   EXPECT_TRUE(got.other == kWall && std::abs(got.time - 7) <= kTol)
       << explain("a wall hit at time 7 (circles at (-2, 0) and (2, 0) moving apart never collide)",
-                 text("returned ", describe(got)),
+                 text("returned ", describe_collision(got)),
                  "circles moving apart have b = dr.dv > 0: the roots of the contact equation are then in the "
                  "past (negative times), so there is no collision. Only accept b < 0 and t >= 0.");
 }
@@ -380,7 +372,7 @@ GRADED_TEST(Propagate, FirstContactIsChosenNotTheSeparationTime, 3, after_due_da
   const double first = 3 - std::sqrt(3.0) / 2;
   EXPECT_TRUE(is_pair(got, 0, 1) && std::abs(got.time - first) <= kTol)
       << explain(text("circles 0 and 1 to collide at the first contact, time 3 - sqrt(3)/2 = ", first),
-                 text("returned ", describe(got)),
+                 text("returned ", describe_collision(got)),
                  std::abs(got.time - (3 + std::sqrt(3.0) / 2)) < 1e-6
                      ? "that is the larger root, when overlapping circles would separate again; take the smaller "
                        "root, t = c / (-b + sqrt(b^2 - |dv|^2 c)) in the stable form."
@@ -396,7 +388,7 @@ GRADED_TEST(Propagate, GrazingPairSlidingPastDoesNotCollide, 2, after_due_date) 
   const Collision got = step(t);
   EXPECT_TRUE(got.other == kWall && std::abs(got.time - std::sqrt(80.0)) <= kTol)
       << explain("a wall hit at time sqrt(80) = 8.944 (a grazing touch, b = 0, is no collision)",
-                 text("returned ", describe(got)),
+                 text("returned ", describe_collision(got)),
                  "only approaching circles (b = dr.dv < 0 strictly) can collide; circles sliding past each other "
                  "while touching do not exchange anything.");
 }
@@ -409,7 +401,7 @@ GRADED_TEST(Propagate, TouchingPairWithEqualVelocitiesDoesNotCollide, 2, after_d
   const Collision got = step(t);
   EXPECT_TRUE(got.other == kWall && std::abs(got.time - std::sqrt(80.0)) <= kTol)
       << explain("a wall hit at time sqrt(80) = 8.944 (circles with equal velocities never collide)",
-                 text("returned ", describe(got)),
+                 text("returned ", describe_collision(got)),
                  "with dv = 0 the contact equation has |dv|^2 = 0 and b = 0: check b < 0 before dividing, or you "
                  "divide 0 by 0.");
 }
@@ -426,7 +418,7 @@ GRADED_TEST(Propagate, NoRecollisionRightAfterCircleCollision, 2, after_due_date
   const Collision got = step(t);
   EXPECT_TRUE(got.other == kWall && std::abs(got.time - 8) <= kTol)
       << explain("the second step to be a wall hit at time 8 (the circles separated at time 4)",
-                 text("returned ", describe(got)), kHintRecollision);
+                 text("returned ", describe_collision(got)), kHintRecollision);
 }
 
 GRADED_TEST(Propagate, NoRecollisionRightAfterWallHit, 2, after_due_date) {
@@ -437,7 +429,7 @@ GRADED_TEST(Propagate, NoRecollisionRightAfterWallHit, 2, after_due_date) {
   step(t);
   const Collision got = step(t);
   EXPECT_TRUE(is_wall(got, 0) && std::abs(got.time - 18) <= kTol)
-      << explain("the second step to be a wall hit at (-9, 0) after time 18", text("returned ", describe(got)),
+      << explain("the second step to be a wall hit at (-9, 0) after time 18", text("returned ", describe_collision(got)),
                  "right after a wall hit the circle touches the wall but moves inward (r.v < 0); the root to take "
                  "is the positive one on the far side, (-B + sqrt(B^2 - A C)) / A, not t = 0.");
 }
@@ -455,8 +447,8 @@ GRADED_TEST(Propagate, NoImmediateRepeatOfTheSameCollisionInRandomSystems, 3, af
       // need time of order scale, never below 1e-9 of it.
       if (same && got.time <= 1e-9 * scale) {
         ADD_FAILURE() << explain(
-            text("a different event after ", describe(previous), " (", s.label, ", step ", e, ")"),
-            text("returned the same collision again: ", describe(got)),
+            text("a different event after ", describe_collision(previous), " (", s.label, ", step ", e, ")"),
+            text("returned the same collision again: ", describe_collision(got)),
             got.other == kWall
                 ? "right after a wall hit the circle touches the wall but moves inward (r.v < 0): its next wall "
                   "hit is on the far side, not at t ~ 0."
@@ -508,7 +500,7 @@ GRADED_TEST(Propagate, CircleKnockedAgainstTheWallBouncesBackAtOnce, 2, after_du
     }
     const bool event_ok = e.other == kWall ? is_wall(got, e.circle) : is_pair(got, e.circle, e.other);
     if (!event_ok || !(std::abs(got.time - e.time) <= kTol)) {
-      ADD_FAILURE() << explain(text("step ", s + 1, ": ", e.what), text("returned ", describe(got)), e.hint);
+      ADD_FAILURE() << explain(text("step ", s + 1, ": ", e.what), text("returned ", describe_collision(got)), e.hint);
       return;
     }
   }
@@ -541,7 +533,7 @@ GRADED_TEST(Propagate, CircleOnTheWallMovingOutwardByRoundingReflects, 2, after_
       ADD_FAILURE() << explain(
           text("a circle at ", row(c, 0), " (on the wall up to rounding, |r| - (R - a) = ", c.row(0).norm() - L,
                ") moving outward to hit the wall at time 0 and then move inward"),
-          text("returned ", describe(got), ", velocity afterwards ", row(t.v, 0)),
+          text("returned ", describe_collision(got), ", velocity afterwards ", row(t.v, 0)),
           "with C = |r|^2 - (R - a)^2 a hair above 0 and B = r.v > 0 both roots of the wall equation are tiny "
           "negative numbers; a circle on the wall moving outward must reflect now (t = 0), or it escapes.");
       return;
@@ -564,7 +556,7 @@ GRADED_TEST(Propagate, ApproachingPairOverlappingByRoundingCollidesAtOnce, 2, af
     ADD_FAILURE() << explain(
         "circles at (0, 0) and (2 - 2e-16, 0) with velocities (1, 0) and (-1, 0) (radius 1) to collide at "
         "time 0 and leave with velocities (-1, 0) and (1, 0)",
-        text("returned ", describe(got), ", velocities afterwards ", row(t.v, 0), " and ", row(t.v, 1)),
+        text("returned ", describe_collision(got), ", velocities afterwards ", row(t.v, 0), " and ", row(t.v, 1)),
         "when two approaching circles already touch (c = |dr|^2 - (2a)^2 is a hair below 0 by rounding), the "
         "first-contact time comes out slightly negative: treat it as 0 (collide now) instead of skipping the "
         "pair, or they pass through each other");
@@ -679,7 +671,7 @@ GRADED_TEST(Propagate, LongRunConservesMeanSquaredVelocity, 3, after_due_date) {
       ADD_FAILURE() << explain(
           text("the mean squared velocity <v^2> to stay constant (relative drift below 1e-10) over ",
                kLongRunCollisions, " collisions of ", kLongRunCircles, " circles"),
-          text("after collision ", e, " (", describe(got), ") it drifted by ", drift, " relative"),
+          text("after collision ", e, " (", describe_collision(got), ") it drifted by ", drift, " relative"),
           "elastic collisions conserve kinetic energy exactly: check the collision formulas (only the normal "
           "components exchange; the wall reverses only the normal component), use the unit normal at the moment "
           "of contact, and use double everywhere (no float).");
@@ -702,7 +694,7 @@ GRADED_TEST(Propagate, LongRunConservesAngularMomentum, 3, after_due_date) {
       ADD_FAILURE() << explain(
           text("the angular momentum about the table centre, sum_i (x_i vy_i - y_i vx_i), to stay constant (change "
           "below 1e-9 of sum_i |r_i||v_i|) over ", kLongRunCollisions, " collisions"),
-          text("after collision ", e, " (", describe(got), ") it changed by ", change, " of that scale"),
+          text("after collision ", e, " (", describe_collision(got), ") it changed by ", change, " of that scale"),
           "both kinds of collision conserve angular momentum about the centre: at the wall reflect only the "
           "component along n = r / |r| at the point of contact, and between circles exchange only the components "
           "along the line of centres.");
@@ -722,7 +714,7 @@ GRADED_TEST(Propagate, LongRunKeepsCirclesApartAndOnTable, 3, after_due_date) {
     // Positions at a collision are exact up to rounding (~1e-15 of R = 10).
     if (!(overlap <= 1e-9)) {
       ADD_FAILURE() << explain("no two circles to overlap (by more than 1e-9) at any collision",
-                               text("after collision ", e, " (", describe(got), ") circles ", i, " and ", j,
+                               text("after collision ", e, " (", describe_collision(got), ") circles ", i, " and ", j,
                                     " overlap by ", overlap),
                                "a missed or too-late collision lets circles pass into each other: find the earliest "
                                "event over all pairs, take the first contact time, and never skip an approaching "
@@ -731,7 +723,7 @@ GRADED_TEST(Propagate, LongRunKeepsCirclesApartAndOnTable, 3, after_due_date) {
     }
     if (!(protrusion <= 1e-9)) {
       ADD_FAILURE() << explain("every circle to stay on the table (|r| <= R - a + 1e-9) at every collision",
-                               text("after collision ", e, " (", describe(got), ") circle ", w, " sticks out by ",
+                               text("after collision ", e, " (", describe_collision(got), ") circle ", w, " sticks out by ",
                                     protrusion),
                                "a circle escapes when a wall hit is missed, e.g. a circle pushed onto the wall "
                                "that moves outward must hit it at t = 0.");
@@ -747,7 +739,7 @@ GRADED_TEST(Propagate, LongRunTimesAreFiniteAndNotNegative, 2, after_due_date) {
     if (!checked_step(t, got, text("long run, collision ", e))) return;
     if (!(std::isfinite(got.time) && got.time >= 0)) {
       ADD_FAILURE() << explain("every returned time to be finite and >= 0 (it is the time advanced)",
-                               text("collision ", e, " returned ", describe(got)),
+                               text("collision ", e, " returned ", describe_collision(got)),
                                "take only non-negative roots, clamp tiny negative roots from rounding to 0, and "
                                "skip events that never happen (infinite or NaN times) when looking for the "
                                "earliest.");
@@ -785,7 +777,7 @@ bool matches_oracle(const Table& t, const std::string& where) {
     ADD_FAILURE() << explain(
         text("at ", where, ": the earliest event, ", billiard::testing::describe_event(first.circle, first.other),
              " after time ", first.time, also),
-        text("returned ", describe(got)),
+        text("returned ", describe_collision(got)),
         "compute every circle's wall time and every pair's contact time (only approaching pairs, the first "
         "contact, stable formulas) and return the smallest.");
     return false;
@@ -793,7 +785,7 @@ bool matches_oracle(const Table& t, const std::string& where) {
   if (!(std::abs(got.time - match->time) <= 1e-9 * (match->time + scale))) {
     ADD_FAILURE() << explain(text("at ", where, ": ", billiard::testing::describe_event(match->circle, match->other),
                                   " after time ", match->time),
-                             text("returned ", describe(got)),
+                             text("returned ", describe_collision(got)),
                              match->other == kWall ? kHintWallTime : kHintPairTime);
     return false;
   }

@@ -6,6 +6,15 @@ std::string explain(std::string_view expected, std::string_view got, std::string
   return text("\nExpected: ", expected, "\nYour code: ", got, "\nHint: ", hint, "\n");
 }
 
+std::string describe_collision(const Collision& c) {
+  if (c.other == kWall) {
+    return text("Collision{time = ", c.time, ", circle = ", c.circle, ", other = kWall} (circle ", c.circle,
+                " hits the wall after time ", c.time, ")");
+  }
+  return text("Collision{time = ", c.time, ", circle = ", c.circle, ", other = ", c.other, "} (circles ", c.circle,
+              " and ", c.other, " collide after time ", c.time, ")");
+}
+
 std::string row(const Eigen::Matrix<double, Eigen::Dynamic, 2>& rows, Eigen::Index i) {
   return text("(", rows(i, 0), ", ", rows(i, 1), ")");
 }

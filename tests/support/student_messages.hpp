@@ -28,6 +28,10 @@ std::string text(const Parts&... parts) {
   return out.str();
 }
 
+// "Collision{time = 2, circle = 0, other = kWall} (circle 0 hits the wall after time 2)", or
+// the same for two circles: what a student's function returned, in words.
+std::string describe_collision(const Collision& collision);
+
 // "(x, y)" for row i of an n x 2 array.
 std::string row(const Eigen::Matrix<double, Eigen::Dynamic, 2>& rows, Eigen::Index i);
 
