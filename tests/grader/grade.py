@@ -744,7 +744,9 @@ def junit_xml(results):
             ET.SubElement(case, "failure", message="does not build").text = result.problem
         for test in result.tests:
             hidden = test.visibility == "hidden"
-            case = ET.SubElement(suite, "testcase", classname=f"{result.task}.{test.name.split('.')[0]}",
+            # A hidden test shows neither its name nor its suite's (which may name it too).
+            case = ET.SubElement(suite, "testcase",
+                                 classname=f"{result.task}.hidden" if hidden else f"{result.task}.{test.name.split('.')[0]}",
                                  name="hidden test" if hidden else test.name.split(".", 1)[1],
                                  time=f"{test.seconds:.3f}")
             if not test.passed:
