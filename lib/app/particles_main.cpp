@@ -174,18 +174,14 @@ class Reader {
     }
 
     const auto n = static_cast<std::size_t>(input.n);
-    if (lines.size() < 3 + n) {
-      fail(lines.size() + 1, text("the file ends after ", lines.size() - 3, " particle line(s), but line 1 says N = ", n,
-                                  "; add the missing particles (x y u v) or correct N"));
-    }
-    if (lines.size() > 3 + n) {
-      fail(3 + n + 1, text("one line too many: line 1 says N = ", n, " particles, and they end on line ", 3 + n,
-                           "; remove the extra line(s) or correct N"));
-    }
     input.values.resize(4 * n);
     const double r = input.radius;
     for (std::size_t i = 0; i < n; ++i) {
       const std::size_t line = 4 + i;
+      if (lines.size() < line) {
+        fail(line, text("the file ends after ", i, " particle line(s), but line 1 says N = ", n,
+                        "; add the missing particles (x y u v) or correct N"));
+      }
       const auto words = fields(lines[3 + i], line, 4, text("x y u v of particle ", i));
       const char* names[4] = {"x", "y", "u", "v"};
       for (int k = 0; k < 4; ++k) input.values[4 * i + k] = number(words[k], line, text(names[k], " of particle ", i));
@@ -198,6 +194,10 @@ class Reader {
         fail(line, text("particle ", i, " at (", billiard_cli::format(x), ", ", billiard_cli::format(y),
                         ") overlaps a wall: its centre must be at least the radius ", billiard_cli::format(r), " from every wall"));
       }
+    }
+    if (lines.size() > 3 + n) {
+      fail(3 + n + 1, text("one line too many: line 1 says N = ", n, " particles, and they end on line ", 3 + n,
+                           "; remove the extra line(s) or correct N"));
     }
     check_overlaps(input);
     return input;
