@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <utility>
 
 namespace billiard {
 
@@ -479,6 +480,18 @@ void Simulation::Engine::collide_pair(int i, int j) {
   Vec2 q;
   if (smooth_elastic) {
     q = collide_smooth_elastic(dr, a.velocity, a.inverse_mass, b.velocity, b.inverse_mass);
+  } else if (exchange_velocities && !asleep(b) && (a.velocity - b.velocity).dot(dr) > 0) {
+    // The whole relative velocity is reversed (Simulation::set_exchange_velocities); equal
+    // masses swap their velocities exactly, so that no rounding enters.
+    const Vec2 g = a.velocity - b.velocity;
+    if (a.inverse_mass == b.inverse_mass) {
+      std::swap(a.velocity, b.velocity);
+    } else {
+      const double sum = a.inverse_mass + b.inverse_mass;
+      a.velocity -= (2 * a.inverse_mass / sum) * g;
+      b.velocity += (2 * b.inverse_mass / sum) * g;
+    }
+    q = -(2 / (a.inverse_mass + b.inverse_mass)) * g;
   } else {
     ColdDisc& ca = cold[i];
     ColdDisc& cb = cold[j];
@@ -527,7 +540,7 @@ void Simulation::Engine::collide_wall(int i, int w) {
   ColdDisc& c = cold[i];
   const double speed_before = d.velocity.norm();
   Vec2 q;
-  if (smooth_elastic) {
+  if (mirror_walls) {
     // Mirror reflection v' = v - 2 (v.n) n / (n.n), unnormalised n as in collide_smooth_elastic.
     const double vn = d.velocity.dot(normal);
     q = vn > 0 ? Vec2((-2 * vn * c.mass / normal.squaredNorm()) * normal) : Vec2::Zero();

@@ -107,7 +107,11 @@ struct Simulation::Engine {
   Vec2 gravity = Vec2::Zero();
   bool has_gravity = false;
   Restitution restitution;
+  // Disc-disc collisions take the fast smooth elastic path (restitution 1, -1, no exchange).
   bool smooth_elastic = true;
+  // Simulation::set_exchange_velocities; walls reflect like mirrors when either is set.
+  bool exchange_velocities = false;
+  bool mirror_walls = true;
   // The granular model (see Simulation::set_contact_duration): as set (nullopt: automatic), and
   // the values in use, chosen at the first advance.
   std::optional<double> contact_duration_setting;
@@ -194,6 +198,7 @@ struct Simulation::Engine {
   void for_each_near(int i, Visit visit) const;
   void choose_granular_model();
   void choose_speeds();
+  void choose_rules();
   double wall_time(const WallShape& wall, const Vec2& r, const Vec2& v, double radius) const;
   void scan_cell(int i, int cx, int cy, const Vec2& r, const Vec2& v, Scheduled& s) const;
   void scan_listed(int i, const int* list, int m, const Vec2& r, const Vec2& v, Scheduled& s) const;

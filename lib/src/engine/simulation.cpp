@@ -331,8 +331,21 @@ void Simulation::set_restitution(double normal, double tangential) {
   if (!(tangential >= -1 && tangential <= 1)) refuse("set_restitution: tangential must be in [-1, 1], got " + number(tangential));
   Engine& e = *engine_;
   e.restitution = Restitution{normal, tangential};
-  e.smooth_elastic = normal == 1 && tangential == -1;
-  if (e.prepared) e.choose_speeds();  // (the automatic sleep speed depends on the restitution)
+  e.choose_rules();
+}
+
+void Simulation::set_exchange_velocities(bool on) {
+  engine_->exchange_velocities = on;
+  engine_->choose_rules();
+}
+
+bool Simulation::exchange_velocities() const { return engine_->exchange_velocities; }
+
+// The collision paths taken, from the restitution and the exchange rule.
+void Simulation::Engine::choose_rules() {
+  smooth_elastic = restitution.normal == 1 && restitution.tangential == -1 && !exchange_velocities;
+  mirror_walls = smooth_elastic || exchange_velocities;
+  if (prepared) choose_speeds();  // (the automatic sleep speed depends on the restitution)
 }
 
 namespace {
@@ -387,7 +400,8 @@ void Simulation::Engine::choose_granular_model() {
 // The speeds of the granular model from resting_speed (automatic) or as set. Discs sleep only
 // under gravity (nothing else can hold them up), by default only when collisions dissipate.
 void Simulation::Engine::choose_speeds() {
-  sleep_speed = sleep_speed_setting.value_or(restitution.normal < 1 ? resting_speed : 0.0);
+  const bool dissipative = restitution.normal < 1 && !exchange_velocities;
+  sleep_speed = sleep_speed_setting.value_or(dissipative ? resting_speed : 0.0);
   if (!has_gravity) sleep_speed = 0;
   elastic_impact_speed = elastic_impact_speed_setting.value_or(sleep_speed > 0 ? 0.0 : resting_speed);
   if (sleep_speed == 0 && sleeping > 0) wake_all();

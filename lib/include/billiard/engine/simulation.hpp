@@ -93,6 +93,15 @@ class Simulation {
   // ---- Physics ----
   void set_gravity(const Vec2& g);                      // uniform, any direction; default 0
   void set_restitution(double normal, double tangential = -1.0);  // see collide.hpp
+  // The exchange rule (off by default): two discs that meet reverse their whole relative
+  // velocity, so discs of equal mass exchange their velocities (exactly); walls reflect like
+  // mirrors (the normal component reverses). For equal masses this is perfectly rough discs
+  // (tangential restitution +1) whose spins never change (an infinite moment of inertia), but
+  // with smooth walls: the rule of the classic "Collisions" exercise (the `particles` program).
+  // Momentum and energy are conserved. While it is on, the restitution and the granular rules
+  // do not apply to discs meeting discs (a disc meeting a sleeping one, which happens only with
+  // a sleep speed set, still follows the restitution). May be changed at any time.
+  void set_exchange_velocities(bool on);
   // Granular gases (normal restitution < 1). Inelastic collisions can come infinitely often in a
   // finite time (inelastic collapse), and a disc settling on a floor under gravity bounces ever
   // lower and faster: event-driven dynamics would stop there. Three rules, on by default, deal
@@ -166,6 +175,7 @@ class Simulation {
   Eigen::VectorXd inertias() const;   // moments of inertia (mass x length^2)
   Vec2 gravity() const;
   Restitution restitution() const;
+  bool exchange_velocities() const;
   // The granular model's values in use (automatic ones are chosen at the first advance; 0 before
   // it). Automatic duration: 1e-4 mean radius / rms speed (of the discs at the first advance),
   // under gravity at least 0.01 sqrt(mean radius / |g|). Automatic elastic impact speed:
