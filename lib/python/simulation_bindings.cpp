@@ -138,6 +138,11 @@ mass (n,), radius (n,), inertia (n,). Bad input raises ValueError naming the dis
           "Uniform gravity (gx, gy); default (0, 0).")
       .def("set_restitution", &Simulation::set_restitution, py::arg("normal"), py::arg("tangential") = -1.0,
            "Coefficients of restitution: normal in [0, 1] (1 elastic), tangential in [-1, 1] (-1 smooth, +1 rough).")
+      .def("set_exchange_velocities", &Simulation::set_exchange_velocities, py::arg("on") = true,
+           "The exchange rule: discs that meet swap their whole velocities (equal masses), walls still reflect only\n"
+           "the normal component; the rule of the box exercise (the `particles` program).")
+      .def_property_readonly("exchange_velocities", &Simulation::exchange_velocities,
+                             "Whether the exchange rule is on (set_exchange_velocities).")
       .def("set_contact_duration", &Simulation::set_contact_duration, py::arg("duration"),
            "Granular gases (restitution < 1), TC model: a collision less than `duration` after either disc's\n"
            "previous collision is elastic, which stops an inelastic collapse. None: automatic (default,\n"

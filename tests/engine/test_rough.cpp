@@ -109,3 +109,53 @@ TEST(Rough, CustomInertia) {
   EXPECT_NEAR(sim.current_state().velocities(0, 0), -2.0, 1e-15);
   EXPECT_NEAR(sim.current_state().spins[0], 0.0, 1e-15);
 }
+
+// The exchange rule (Simulation::set_exchange_velocities): discs swap whole velocities, walls
+// still reflect only the normal component.
+TEST(Exchange, ObliqueEqualDiscsSwapWholeVelocitiesExactly) {
+  // Disc 0 at the origin moving (1, 0.5), disc 1 at (3, 0) moving (-1, 0.25): the gap of 1 along
+  // x closes at relative speed 2 while y drifts apart by 0.25 t, so they touch before t = 0.5 at
+  // an angle; smooth discs would exchange only the normal components.
+  billiard::Simulation sim;
+  sim.add_box(Vec2(-20, -20), Vec2(20, 20));
+  sim.add_disc(make_disc(Vec2(0, 0), Vec2(1, 0.5), 1.0));
+  sim.add_disc(make_disc(Vec2(3, 0), Vec2(-1, 0.25), 1.0));
+  sim.set_exchange_velocities(true);
+  sim.enable_event_log(true);
+  sim.advance(1);
+  ASSERT_EQ(sim.event_log().size(), 1u);
+  const auto& hit = sim.event_log()[0];
+  EXPECT_EQ(hit.velocity, Vec2(-1, 0.25));  // exactly: a swap, no arithmetic
+  EXPECT_EQ(hit.other_velocity, Vec2(1, 0.5));
+}
+
+TEST(Exchange, WallsStillReflectOnlyTheNormalComponent) {
+  billiard::Simulation sim;
+  sim.add_box(Vec2(0, 0), Vec2(10, 10));
+  sim.add_disc(make_disc(Vec2(5, 5), Vec2(2, 1), 1.0));
+  sim.set_exchange_velocities(true);
+  sim.enable_event_log(true);
+  sim.advance(1);  // the wall x = 10 at t = 2
+  ASSERT_EQ(sim.event_log().size(), 1u);
+  EXPECT_DOUBLE_EQ(sim.event_log()[0].time, 2.0);
+  EXPECT_EQ(sim.event_log()[0].velocity, Vec2(-2, 1));
+}
+
+TEST(Exchange, LongRunConservesEnergyAndMomentumInAPeriodicBox) {
+  // Swapping velocities conserves both exactly (a permutation), so the sums stay equal to
+  // rounding of the sums themselves.
+  billiard::Simulation sim;
+  sim.set_periodic_box(40, 40);
+  sim.add_random_discs(200, 1.0, 1.0, 1.0, 7);
+  sim.set_exchange_velocities(true);
+  const double energy = sim.kinetic_energy();
+  const auto momentum = [&] {
+    const auto state = sim.current_state();
+    return Vec2(state.velocities.col(0).sum(), state.velocities.col(1).sum());
+  };
+  const Vec2 start = momentum();
+  sim.advance(20000);
+  EXPECT_NEAR(sim.kinetic_energy(), energy, 1e-12 * energy);
+  EXPECT_LT((momentum() - start).norm(), 1e-10);
+  EXPECT_TRUE(sim.validate().empty());
+}
