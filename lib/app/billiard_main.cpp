@@ -110,11 +110,10 @@ stderr, nothing written).
 )");
 }
 
-// A radius: a plain decimal number (from_chars: no spaces, no hex, no inf or nan) in range.
+// A radius: a plain decimal number (read_number) in range.
 double parse_radius(std::string_view value, std::string_view name, std::string_view example) {
   double number = 0;
-  const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), number);
-  if (error != std::errc() || end != value.data() + value.size() || !(number >= kMinRadius && number <= kMaxRadius)) {
+  if (!read_number(value, number) || !(number >= kMinRadius && number <= kMaxRadius)) {
     throw BadInput(text(name, " must be a number from ", kMinRadius, " to ", kMaxRadius, ", got ", in_quotes(value),
                         " (only the ratio of the radii matters: scale both, for example ", example, "; ", kUsage,
                         ")"));
@@ -210,8 +209,7 @@ Options parse(int argc, char** argv) {
     } else if (name == "--cells") {
       choose_stage(options, Stage::Sectors, "--cells");
       double size = 0;
-      const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), size);
-      if (error != std::errc() || end != value.data() + value.size() || !std::isfinite(size) || size <= 0) {
+      if (!read_number(value, size) || size <= 0) {
         throw BadInput(text("--cells must be a positive number, the side of a cell (at least 2 CIRCLE_RADIUS), got ",
                             in_quotes(value), " (", kUsage, ")"));
       }

@@ -2,6 +2,8 @@
 // and the error for bad input.
 #pragma once
 
+#include <charconv>
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -50,6 +52,13 @@ inline std::string printable(std::string_view value, std::size_t longest = std::
 }
 
 inline std::string in_quotes(std::string_view value) { return "'" + printable(value, 100) + "'"; }
+
+// A plain decimal number (from_chars: no spaces, no hex, no inf or nan), finite; false if `word`
+// is anything else.
+inline bool read_number(std::string_view word, double& number) {
+  const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), number);
+  return error == std::errc() && end == word.data() + word.size() && std::isfinite(number);
+}
 
 inline std::string format(double value, int precision = 6) {
   std::ostringstream out;

@@ -4,7 +4,6 @@
 #include "cli_text.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <random>
@@ -52,16 +51,6 @@ bool stage_built(Stage stage) {
     default: return false;
   }
 }
-
-namespace {
-
-// A plain decimal number (from_chars: no spaces, no hex, no inf or nan); false if it is not one.
-bool read_number(std::string_view word, double& number) {
-  const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), number);
-  return error == std::errc() && end == word.data() + word.size() && std::isfinite(number);
-}
-
-}  // namespace
 
 Vector parse_gravity(std::string_view value) {
   const auto comma = value.find(',');
