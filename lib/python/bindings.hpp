@@ -19,6 +19,12 @@ Rows2 from_numpy(const pybind11::array& array, const char* name, bool writable =
 // Copies the matrix back into the caller's array (same shape, checked by from_numpy).
 void write_back(const Rows2& matrix, pybind11::array& array);
 
+// A point (x, y): two real numbers in any sequence or array; `name` is the argument's name.
+Eigen::Vector2d to_vec2(const pybind11::object& value, const char* name);
+
+// An n by 2 array of real numbers from any array-like value, as the engine's row-major points.
+Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> to_points(const pybind11::object& value, const char* name);
+
 // A new n by 2 float64 numpy array.
 pybind11::array_t<double> to_numpy(const Rows2& matrix);
 
@@ -28,5 +34,6 @@ std::string short_repr(const pybind11::handle& value);
 void bind_course(pybind11::module_& m);
 void bind_stages(pybind11::module_& parent);
 void bind_simulation(pybind11::module_& m);
+void bind_stepping(pybind11::module_& parent);
 
 }  // namespace billiard::python

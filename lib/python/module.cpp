@@ -56,6 +56,21 @@ void write_back(const Rows2& matrix, py::array& array) {
   }
 }
 
+// (ensure() gives a null array when numpy cannot read the value at all.)
+Eigen::Vector2d to_vec2(const py::object& value, const char* name) {
+  py::array array = py::array::ensure(value);
+  if (!array || array.size() != 2) {
+    throw std::invalid_argument(std::string(name) + " must be a point (x, y) of two numbers, got " + short_repr(value));
+  }
+  const Rows2 m = from_numpy(array.reshape({1, 2}), name);
+  return Eigen::Vector2d(m(0, 0), m(0, 1));
+}
+
+Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> to_points(const py::object& value, const char* name) {
+  const Rows2 m = from_numpy(py::array::ensure(value), name);  // (from_numpy refuses a null array)
+  return m;
+}
+
 std::string short_repr(const py::handle& value) {
   std::string text;
   try {
@@ -91,6 +106,9 @@ PYBIND11_MODULE(_billiard, m) {
   billiard::python::bind_stages(m);
 #ifdef BILLIARD_PYTHON_SIMULATION
   billiard::python::bind_simulation(m);
+#endif
+#ifdef BILLIARD_PYTHON_STEPPING
+  billiard::python::bind_stepping(m);
 #endif
   m.attr("course_implementation") = BILLIARD_COURSE_NAME;
 }

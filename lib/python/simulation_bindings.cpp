@@ -19,22 +19,6 @@ namespace py = pybind11;
 namespace billiard::python {
 namespace {
 
-// A point (x, y): two real numbers in any sequence or array. (ensure() gives a null array when
-// numpy cannot read the value at all.)
-Vec2 to_vec2(const py::object& value, const char* name) {
-  py::array array = py::array::ensure(value);
-  if (!array || array.size() != 2) {
-    throw std::invalid_argument(std::string(name) + " must be a point (x, y) of two numbers, got " + short_repr(value));
-  }
-  const Rows2 m = from_numpy(array.reshape({1, 2}), name);
-  return Vec2(m(0, 0), m(0, 1));
-}
-
-Points to_points(const py::object& value, const char* name) {
-  const Rows2 m = from_numpy(py::array::ensure(value), name);  // (from_numpy refuses a null array)
-  return Points(m);
-}
-
 py::array_t<double> points(const Points& p) { return to_numpy(Rows2(p)); }
 
 py::array_t<double> vector(const Eigen::VectorXd& v) {

@@ -13,6 +13,9 @@ chose; see ``billiard.course_implementation``) work on numpy arrays of shape (n,
 The extension stages (tasks 7-9) this build has are in ``billiard.stages`` (its ``available``
 lists them): ``propagate_gravity``, ``mean_energy``, ``propagate_walls``, ``propagate_sectors``.
 
+Time stepping of point particles in level-set domains, for comparison with the exact engine:
+``billiard.stepping`` (``billiard.Stepper`` is its integrator).
+
 Drawing and animation: ``billiard.plotting`` (matplotlib). Errors in arguments arrive as
 ValueError with the library's message, naming the argument; an argument of the wrong Python type
 (a string for a number, a list where a numpy array is required, an int beyond the C++ parameter's
@@ -70,7 +73,12 @@ if hasattr(_billiard, "Simulation"):
     Simulation.replay_by_event = _replay_by_event
     Simulation.replay_by_time = _replay_by_time
 
+from . import stepping  # noqa: E402  (after _billiard: it extends the compiled Stepper)
+
+if hasattr(_billiard, "stepping"):
+    from .stepping import Stepper  # noqa: F401
+
 __all__ = [
     "DISC_DISC", "DISC_WALL", "SLEEP", "WAKE", "Simulation", "WALL", "Collision", "Rng", "correct_energy_drift", "course_implementation", "init_billiard",
-    "init_velocities", "kinetic_energy", "movie", "propagate", "stages", "visualize_table",
+    "init_velocities", "kinetic_energy", "movie", "propagate", "stages", "stepping", "Stepper", "visualize_table",
 ]
