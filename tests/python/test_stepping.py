@@ -217,3 +217,11 @@ def test_bad_step_counts_and_replay_arguments():
     with pytest.raises(ValueError, match="until must be a finite number"):
         next(stepper.replay_by_time(0.1, until=float("inf")))
     assert stepper.steps == 2
+
+
+def test_nan_from_the_users_omega_raises_value_error():
+    def omega(points):
+        return np.full(len(points), np.nan)
+
+    with pytest.raises(ValueError, match="omega = nan"):
+        Stepper(level_set(omega, lambda p: -p), [[0.0, 0.0]], [[1.0, 0.0]], dt=0.1)

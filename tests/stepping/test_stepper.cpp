@@ -139,22 +139,34 @@ TEST(Circle, SpeedExactParticlesStayInsideAndReflectionsMatchTheChords) {
 
 TEST(Circle, EnergyErrorUnderGravityIsFirstOrderInDt) {
   // The reflection is not symplectic: the energy error of a bouncing particle is O(dt). Halving
-  // dt must roughly halve the largest variation (measured ratio: see lib/PHYSICS.md).
-  const Points x = rows({{0.3, 0.2}, {-0.5, 0.1}, {0.1, -0.4}, {0.0, 0.6}});
-  const Points v = rows({{1.0, 0.3}, {0.4, -0.8}, {-0.6, 0.5}, {0.9, 0.0}});
-  const Vec2 g(0, -1);
-  const double duration = 20.0;
-  double worst[2];
-  for (int k = 0; k < 2; ++k) {
-    const double dt = 2e-3 / (1 << k);
-    Stepper stepper({circle({0, 0}, 1.0)}, x, v, dt, g);
-    worst[k] = max_energy_variation(stepper, std::llround(duration / dt)).sum();
-    EXPECT_GT(stepper.total_reflections(), 40);
+  // dt must roughly halve the largest variation, averaged over 200 particles (one particle's
+  // depends on where its few bounces fall within their steps). Measured ratios, dt from 8e-3
+  // down to 2.5e-4: 1.94 to 2.10 (lib/PHYSICS.md).
+  const int n = 200;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> uniform(-0.35, 0.35);
+  std::normal_distribution<double> normal;
+  Points x(n, 2), v(n, 2);
+  for (int i = 0; i < n; ++i) {
+    x.row(i) << uniform(rng), uniform(rng);
+    v.row(i) << normal(rng), normal(rng);
   }
-  const double ratio = worst[0] / worst[1];
-  RecordProperty("ratio", std::to_string(ratio));
-  EXPECT_GT(ratio, 1.6) << worst[0] << " then " << worst[1];
-  EXPECT_LT(ratio, 2.5) << worst[0] << " then " << worst[1];
+  const Vec2 g(0, -1);
+  const double duration = 10.0;
+  double mean[3];
+  for (int k = 0; k < 3; ++k) {
+    const double dt = 4e-3 / (1 << k);
+    Stepper stepper({circle({0, 0}, 1.0)}, x, v, dt, g);
+    mean[k] = max_energy_variation(stepper, std::llround(duration / dt)).mean();
+    EXPECT_GT(stepper.total_reflections(), 5 * n);
+    EXPECT_EQ(stepper.unresolved_steps(), 0);
+  }
+  for (int k = 0; k < 2; ++k) {
+    const double ratio = mean[k] / mean[k + 1];
+    RecordProperty("ratio" + std::to_string(k), std::to_string(ratio));
+    EXPECT_GT(ratio, 1.6) << mean[k] << " then " << mean[k + 1];
+    EXPECT_LT(ratio, 2.5) << mean[k] << " then " << mean[k + 1];
+  }
 }
 
 TEST(Ellipse, SpeedConservedAndInside) {

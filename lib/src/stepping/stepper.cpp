@@ -196,6 +196,7 @@ void Stepper::one_step(StepperState& s, std::int64_t& unresolved) const {
     Points normal;
     evaluate_own_parts(domain_, crossing, pending, s.parts, nullptr, normal);
     std::vector<Index> unreflected;
+    std::vector<bool> reflected(pending.size(), true);
     for (Index j = 0; j < m; ++j) {
       const Index i = pending[static_cast<std::size_t>(j)];
       if (!reflect(normal.row(j).transpose(), i)) unreflected.push_back(j);
@@ -211,13 +212,21 @@ void Stepper::one_step(StepperState& s, std::int64_t& unresolved) const {
       }
       Points end_normal;
       evaluate_own_parts(domain_, ends, who, s.parts, nullptr, end_normal);
-      for (std::size_t r = 0; r < who.size(); ++r) reflect(end_normal.row(static_cast<Index>(r)).transpose(), who[r]);
+      for (std::size_t r = 0; r < who.size(); ++r) {
+        reflected[static_cast<std::size_t>(unreflected[r])] = reflect(end_normal.row(static_cast<Index>(r)).transpose(), who[r]);
+      }
     }
     for (Index j = 0; j < m; ++j) {
       const Index i = pending[static_cast<std::size_t>(j)];
       end.row(i) = crossing.row(j) + v.row(i) * remaining[static_cast<std::size_t>(j)];
     }
-    const std::vector<Index> still = update_parts(domain_, rows_of(end, pending), pending, s.parts);
+    // Still outside: a particle that was turned back goes on to the next crossing. One moving
+    // inward by both normals is done: it started beyond the boundary (an earlier crossing point
+    // on a curved wall lies up to (step length)^2 / (2 radius) outside) and comes back in.
+    std::vector<Index> still;
+    for (const Index j : update_parts(domain_, rows_of(end, pending), pending, s.parts)) {
+      if (reflected[static_cast<std::size_t>(j)]) still.push_back(j);
+    }
     std::vector<Index> next;
     std::vector<double> next_remaining;
     for (const Index j : still) {
