@@ -88,6 +88,30 @@ TEST(FlatWall, ReflectedAtTheHandComputedPointWithExactEnergy) {
   EXPECT_EQ(stepper.unresolved_steps(), 0);
 }
 
+TEST(FlatWall, EnergyChangeOfOneReflectionOnAFloorIsTheFormula) {
+  // A reflection at the fraction lambda of a leapfrog drift with velocity u changes the energy by
+  // (1 - 2 lambda) dt (u . n)(g . n) (lib/PHYSICS.md); Euler's step by |g|^2 dt^2 / 2 -
+  // 2 lambda dt (u . n)(g . n). The floor y = 0 of the box is linear: lambda is exact.
+  const Vec2 g(0, -1), n(0, 1);
+  const double dt = 0.1;
+  const Points x = rows({{0.5, 0.05}}), v = rows({{0.3, -1.0}});
+  for (const Integrator integrator : {Integrator::Leapfrog, Integrator::Euler}) {
+    const bool leapfrog = integrator == Integrator::Leapfrog;
+    Stepper stepper({box({0, 0}, {1, 1})}, x, v, dt, g, integrator);
+    stepper.step();
+    ASSERT_EQ(stepper.state().reflections[0], 1);
+    const Vec2 u = v.row(0).transpose() + (leapfrog ? 0.5 * dt : 0.0) * g;
+    const double lambda = 0.05 / (-u.y() * dt);
+    const double expected = leapfrog ? (1 - 2 * lambda) * dt * u.dot(n) * g.dot(n)
+                                     : g.squaredNorm() * dt * dt / 2 - 2 * lambda * dt * u.dot(n) * g.dot(n);
+    EXPECT_NEAR(stepper.energy() - stepper.initial_energy(), expected, 1e-15) << (leapfrog ? "leapfrog" : "euler");
+    EXPECT_GT(std::abs(expected), 1e-3);
+    // The step's end: mirrored about the floor after the crossing, then the last kick.
+    EXPECT_NEAR(stepper.state().positions(0, 1), (1 - lambda) * dt * -u.y(), 1e-15);
+    EXPECT_NEAR(stepper.state().velocities(0, 1), -u.y() + (leapfrog ? 0.5 : 1.0) * dt * g.y(), 1e-15);
+  }
+}
+
 TEST(FlatWall, CornerHitReflectsBothComponents) {
   // Straight into the corner (1, 1): the drift leaves through both faces; two reflections.
   Stepper stepper({box({0, 0}, {1, 1})}, rows({{0.96, 0.96}}), rows({{1, 1}}), 0.1);
