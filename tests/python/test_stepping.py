@@ -107,6 +107,8 @@ def test_replays_repeat_the_run_exactly():
     np.testing.assert_array_equal(by_time[5]["position"], by_steps[2]["position"])
     # A frame time between steps gives the last step before it.
     assert [s["steps"] for s in stepper.replay_by_time(0.0123, until=0.03)] == [0, 2, 4]
+    assert [s["steps"] for s in stepper.replay_at([0.5, 0.5, 2.0, 4.999])] == [100, 100, 400, 999]
+    np.testing.assert_array_equal(next(stepper.replay_at([2.5]))["velocity"], by_steps[2]["velocity"])
     # The replay does not move the stepper.
     assert stepper.steps == 1000
 
@@ -216,6 +218,10 @@ def test_bad_step_counts_and_replay_arguments():
         next(stepper.replay_by_steps(0))
     with pytest.raises(ValueError, match="until must be a finite number"):
         next(stepper.replay_by_time(0.1, until=float("inf")))
+    with pytest.raises(ValueError, match="increasing order"):
+        next(stepper.replay_at([0.2, 0.1]))
+    with pytest.raises(ValueError, match="times must be finite numbers"):
+        next(stepper.replay_at([float("nan")]))
     assert stepper.steps == 2
 
 

@@ -51,7 +51,21 @@ if hasattr(_billiard, "stepping"):
             replay.step(every)
             yield replay.current_state
 
+    def _replay_at(self, times):
+        """Yields the state at each of the given times (increasing, >= 0), re-running the steps
+        from the initial state: each is the state after the last step at or before that time."""
+        times = list(times)
+        if not all(isinstance(t, numbers.Real) and math.isfinite(t) and t >= 0 for t in times):
+            raise ValueError(f"replay_at: times must be finite numbers >= 0, got {times!r:.80}")
+        if any(b < a for a, b in zip(times, times[1:])):
+            raise ValueError("replay_at: times must be in increasing order")
+        replay = self.restarted()
+        for t in times:
+            replay.advance_to(t)
+            yield replay.current_state
+
     Stepper.replay_by_time = _replay_by_time
     Stepper.replay_by_steps = _replay_by_steps
+    Stepper.replay_at = _replay_at
 
 __all__ = ["LevelSet", "Stepper", "box", "circle", "ellipse", "level_set"]
