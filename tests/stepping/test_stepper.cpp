@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <functional>
 #include <random>
 #include <stdexcept>
 
@@ -241,6 +243,73 @@ TEST(Union, OffAxisParticleIsReflectedOnlyByTheOuterArc) {
   const Vec2 n = Vec2(wall - 1, 0.5) / 1.5;
   const Vec2 expected = Vec2(1, 0) - 2 * n.x() * n;
   EXPECT_NEAR((stepper.state().velocities.row(0).transpose() - expected).norm(), 0.0, 2e-3);
+}
+
+// Random unions of one to three circles, ellipses and boxes, with and without gravity, leapfrog
+// and Euler, steps of 1e-3 to 1e-2: every particle stays finite and within a step length of the
+// domain (by the distance estimate -omega / |grad omega|), no step is left unresolved, and
+// without gravity every speed is kept to rounding. Where a box's corner or two parts meet, the
+// gradient at the start of a drift can belong to another face than the one crossed, so a
+// particle may end a step just outside (measured: at most 0.44 step lengths in these domains,
+// 0.77 in 300 others).
+TEST(Fuzz, RandomUnionsKeepParticlesWithinAStepOfTheDomain) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  const auto size = [&] { return 0.5 + u(rng); };
+  double worst_outside = 0;
+  for (int trial = 0; trial < 120; ++trial) {
+    Domain domain;
+    const int parts = 1 + trial % 3;
+    for (int k = 0; k < parts; ++k) {
+      const Vec2 c(2 * u(rng) - 1, 2 * u(rng) - 1);
+      const int kind = (trial / 3 + k) % 3;
+      if (kind == 0) {
+        domain.push_back(circle(c, size()));
+      } else if (kind == 1) {
+        const double a = size(), b = size();
+        domain.push_back(ellipse(c, {a, b}));
+      } else {
+        const double a = size(), b = size(), c1 = size(), c2 = size();
+        domain.push_back(box(c - Vec2(a, b), c + Vec2(c1, c2)));
+      }
+    }
+    const auto distance = [&](const Points& p) {  // the largest -omega / |grad| estimate over parts
+      Eigen::VectorXd best = Eigen::VectorXd::Constant(p.rows(), -std::numeric_limits<double>::infinity());
+      for (const auto& part : domain) {
+        best = best.cwiseMax(part->values(p).cwiseQuotient(part->gradients(p).rowwise().norm()));
+      }
+      return best;
+    };
+    const int n = 30;
+    Points x(n, 2), v(n, 2);
+    for (int got = 0; got < n;) {
+      Points p(1, 2);
+      p << 4 * u(rng) - 2, 4 * u(rng) - 2;
+      if (distance(p)[0] <= 0) continue;
+      x.row(got) = p.row(0);
+      v.row(got++) << 2 * u(rng) - 1, 2 * u(rng) - 1;
+    }
+    const bool gravity = trial % 2 == 1;
+    const double dt = 1e-3 * (1 + 9 * u(rng));
+    Stepper stepper(domain, x, v, dt, gravity ? Vec2(0, -1) : Vec2(0, 0), trial % 4 == 3 ? Integrator::Euler : Integrator::Leapfrog);
+    for (int step = 0; step < 1000; ++step) {
+      stepper.step();
+      ASSERT_TRUE(stepper.state().positions.allFinite()) << "trial " << trial;
+      const Eigen::VectorXd d = distance(stepper.state().positions);
+      for (int i = 0; i < n; ++i) {
+        const double length = stepper.state().velocities.row(i).norm() * dt;
+        worst_outside = std::max(worst_outside, -d[i] / length);
+      }
+    }
+    EXPECT_EQ(stepper.unresolved_steps(), 0) << "trial " << trial;
+    if (!gravity) {
+      for (int i = 0; i < n; ++i) {
+        EXPECT_NEAR(stepper.state().velocities.row(i).norm(), v.row(i).norm(), 1e-13) << "trial " << trial << ", particle " << i;
+      }
+    }
+  }
+  RecordProperty("worst_outside_in_step_lengths", std::to_string(worst_outside));
+  EXPECT_LT(worst_outside, 1.0);
 }
 
 TEST(Replay, RestartedStepperRepeatsTheRunExactly) {
