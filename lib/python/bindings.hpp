@@ -28,6 +28,10 @@ Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> to_points(const pybind
 // A new n by 2 float64 numpy array.
 pybind11::array_t<double> to_numpy(const Rows2& matrix);
 
+// New numpy arrays: an n by 2 float64 array of the engine's row-major points, and a vector.
+pybind11::array_t<double> points(const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>& p);
+pybind11::array_t<double> vector(const Eigen::VectorXd& v);
+
 // repr(value) for an error message, at most about 60 characters (and never an error itself).
 std::string short_repr(const pybind11::handle& value);
 

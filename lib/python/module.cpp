@@ -91,6 +91,15 @@ py::array_t<double> to_numpy(const Rows2& matrix) {
   return out;
 }
 
+py::array_t<double> points(const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>& p) { return to_numpy(Rows2(p)); }
+
+py::array_t<double> vector(const Eigen::VectorXd& v) {
+  py::array_t<double> out(static_cast<py::ssize_t>(v.size()));
+  auto view = out.mutable_unchecked<1>();
+  for (Eigen::Index i = 0; i < v.size(); ++i) view(i) = v[i];
+  return out;
+}
+
 }  // namespace billiard::python
 
 PYBIND11_MODULE(_billiard, m) {

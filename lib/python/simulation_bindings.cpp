@@ -19,15 +19,6 @@ namespace py = pybind11;
 namespace billiard::python {
 namespace {
 
-py::array_t<double> points(const Points& p) { return to_numpy(Rows2(p)); }
-
-py::array_t<double> vector(const Eigen::VectorXd& v) {
-  py::array_t<double> out(static_cast<py::ssize_t>(v.size()));
-  auto view = out.mutable_unchecked<1>();
-  for (Eigen::Index i = 0; i < v.size(); ++i) view(i) = v[i];
-  return out;
-}
-
 py::dict state_dict(const Simulation& sim, const State& state) {
   py::dict d;
   d["time"] = state.time;

@@ -55,8 +55,6 @@ py::array_t<double, py::array::c_style> returned_array(const py::object& result,
   return py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(array);
 }
 
-py::array_t<double> points_array(const Points& p) { return to_numpy(Rows2(p)); }
-
 // A level set given as omega(points (n, 2)) -> (n,) and grad(points (n, 2)) -> (n, 2).
 class PythonLevelSet final : public LevelSet {
  public:
@@ -67,18 +65,18 @@ class PythonLevelSet final : public LevelSet {
     omega_ = py::function();
     grad_ = py::function();
   }
-  Eigen::VectorXd values(const Points& points) const override {
-    const auto n = static_cast<py::ssize_t>(points.rows());
-    const auto array = returned_array(omega_(points_array(points)), "omega", n, 0);
-    Eigen::VectorXd w(points.rows());
+  Eigen::VectorXd values(const Points& at) const override {
+    const auto n = static_cast<py::ssize_t>(at.rows());
+    const auto array = returned_array(omega_(points(at)), "omega", n, 0);
+    Eigen::VectorXd w(at.rows());
     const auto view = array.unchecked<1>();
     for (py::ssize_t i = 0; i < n; ++i) w[i] = view(i);
     return w;
   }
-  Points gradients(const Points& points) const override {
-    const auto n = static_cast<py::ssize_t>(points.rows());
-    const auto array = returned_array(grad_(points_array(points)), "grad", n, 2);
-    Points g(points.rows(), 2);
+  Points gradients(const Points& at) const override {
+    const auto n = static_cast<py::ssize_t>(at.rows());
+    const auto array = returned_array(grad_(points(at)), "grad", n, 2);
+    Points g(at.rows(), 2);
     const auto view = array.unchecked<2>();
     for (py::ssize_t i = 0; i < n; ++i) {
       g(i, 0) = view(i, 0);
@@ -123,15 +121,9 @@ Integrator to_integrator(const std::string& name) {
   throw std::invalid_argument("integrator must be 'leapfrog' or 'euler', got '" + name + "'");
 }
 
-py::array_t<double> vector(const Eigen::VectorXd& v) {
-  py::array_t<double> out(static_cast<py::ssize_t>(v.size()));
-  auto view = out.mutable_unchecked<1>();
-  for (Eigen::Index i = 0; i < v.size(); ++i) view(i) = v[i];
-  return out;
-}
-
+// The integer counters (parts, reflections) as numpy vectors.
 template <class T>
-py::array_t<T> vector(const std::vector<T>& v) {
+py::array_t<T> counts(const std::vector<T>& v) {
   py::array_t<T> out(static_cast<py::ssize_t>(v.size()));
   auto view = out.template mutable_unchecked<1>();
   for (std::size_t i = 0; i < v.size(); ++i) view(static_cast<py::ssize_t>(i)) = v[i];
@@ -143,10 +135,10 @@ py::dict state_dict(const Stepper& stepper, const StepperState& state) {
   py::dict d;
   d["time"] = state.time;
   d["steps"] = state.steps;
-  d["position"] = points_array(state.positions);
-  d["velocity"] = points_array(state.velocities);
-  d["part"] = vector(state.parts);
-  d["reflections"] = vector(state.reflections);
+  d["position"] = points(state.positions);
+  d["velocity"] = points(state.velocities);
+  d["part"] = counts(state.parts);
+  d["reflections"] = counts(state.reflections);
   d["energy"] = vector(stepping::energies(state, stepper.gravity()));
   return d;
 }
@@ -159,10 +151,10 @@ void bind_stepping(py::module_& parent) {
   py::class_<Part>(m, "LevelSet", R"(One region {x : omega(x) > 0}: made by circle, ellipse, box or level_set.
 omega(points) and grad(points) evaluate it at points (n, 2).)")
       .def(
-          "omega", [](const Part& p, const py::object& points) { return vector(p.level_set->values(to_points(points, "points"))); },
+          "omega", [](const Part& p, const py::object& at) { return vector(p.level_set->values(to_points(at, "points"))); },
           py::arg("points"), "omega at each row of points (n, 2): shape (n,).")
       .def(
-          "grad", [](const Part& p, const py::object& points) { return points_array(p.level_set->gradients(to_points(points, "points"))); },
+          "grad", [](const Part& p, const py::object& at) { return points(p.level_set->gradients(to_points(at, "points"))); },
           py::arg("points"), "The gradient of omega at each row of points (n, 2): shape (n, 2).")
       .def("__repr__", [](const Part& p) { return p.description; });
 
