@@ -13,6 +13,10 @@ chose; see ``billiard.course_implementation``) work on numpy arrays of shape (n,
 The extension stages (tasks 7-9) this build has are in ``billiard.stages`` (its ``available``
 lists them): ``propagate_gravity``, ``mean_energy``, ``propagate_walls``, ``propagate_sectors``.
 
+Ensembles: ``billiard.sweep(run, grid, seeds=...)`` runs a function of parameters and a seed
+over a parameter grid and seeds in parallel worker processes (Dask; a local cluster by default,
+or a Dask cluster's address) and returns one record per run.
+
 Drawing and animation: ``billiard.plotting`` (matplotlib). Errors in arguments arrive as
 ValueError with the library's message, naming the argument; an argument of the wrong Python type
 (a string for a number, a list where a numpy array is required, an int beyond the C++ parameter's
@@ -38,6 +42,7 @@ from ._billiard import (  # noqa: F401  (re-exported)
 )
 from . import _billiard
 from ._billiard import stages  # noqa: F401  (the extension stages this build has: stages.available)
+from ._sweep import local_client, sweep  # noqa: F401  (re-exported; import Dask only when called)
 
 if hasattr(_billiard, "Simulation"):
     from ._billiard import DISC_DISC, DISC_WALL, SLEEP, WAKE, Simulation  # noqa: F401
@@ -72,5 +77,5 @@ if hasattr(_billiard, "Simulation"):
 
 __all__ = [
     "DISC_DISC", "DISC_WALL", "SLEEP", "WAKE", "Simulation", "WALL", "Collision", "Rng", "correct_energy_drift", "course_implementation", "init_billiard",
-    "init_velocities", "kinetic_energy", "movie", "propagate", "stages", "visualize_table",
+    "init_velocities", "kinetic_energy", "movie", "local_client", "propagate", "stages", "sweep", "visualize_table",
 ]
