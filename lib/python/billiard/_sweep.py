@@ -369,6 +369,9 @@ class _Progress:
 
     def __init__(self, total, quiet):
         self.total, self.quiet = total, quiet
+        # Rewriting a line works in a terminal and in Jupyter; elsewhere (a log file) only the
+        # final line is written.
+        self.live = "ipykernel" in sys.modules or (hasattr(sys.stderr, "isatty") and sys.stderr.isatty())
         self.done = self.failed = 0
         self.start = self.shown = time.perf_counter()
         self.width = 0
@@ -377,7 +380,7 @@ class _Progress:
         self.done += done
         self.failed += int(failed)
         now = time.perf_counter()
-        if now - self.shown >= PROGRESS_INTERVAL and self.done < self.total:
+        if self.live and now - self.shown >= PROGRESS_INTERVAL and self.done < self.total:
             self.shown = now
             self._show("\r")
 
