@@ -122,6 +122,24 @@ def test_killed_worker_is_reported_and_the_others_return(client):
     assert records[1]["error"].startswith("worker lost: KilledWorker")
 
 
+def test_lambda_with_closure_travels_to_the_workers(client):
+    offset = 0.25
+    records = billiard.sweep(lambda x, seed: x * 10 + seed + offset, [{"x": 1}, {"x": 2}], seeds=[3, 5],
+                             client=client, quiet=True, as_frame=False)
+    assert [r["result"] for r in records] == [13.25, 15.25, 23.25, 25.25]
+
+
+def test_exit_in_a_run_is_reported_as_its_error():
+    def leaving(x, seed):
+        if x == 1:
+            raise SystemExit(4)
+        return x
+
+    records = billiard.sweep(leaving, {"x": [0, 1, 2]}, workers=0, quiet=True, as_frame=False)
+    assert [r["result"] for r in records] == [0, None, 2]
+    assert records[1]["error"] == "SystemExit: 4"
+
+
 def test_failed_run_in_this_process():
     records = billiard.sweep(failing_run, GRID, seeds=SEEDS, workers=0, quiet=True, as_frame=False)
     assert sum(r["error"] is not None for r in records) == 2

@@ -25,6 +25,7 @@ RESERVED_COLUMNS = ("seed", "run_time", "error", "traceback")
 RESULT_COLUMN = "result"
 # How long to wait for the scheduler at a given address before calling it unreachable.
 CONNECT_TIMEOUT = "10s"
+# Dask is needed only when sweep runs on workers; without it, this says what to install.
 NO_DASK = ("billiard.sweep needs Dask: install Debian's python3-dask and python3-distributed "
            "(or pass workers=0 to run in this process)")
 # The progress line is rewritten at most this often (seconds), so that a notebook's output stays small.
@@ -36,9 +37,10 @@ def sweep(run, grid, seeds=1, client=None, *, workers=None, quiet=False, as_fram
     parallel, and returns one record per run.
 
     run: a function that builds and runs a Simulation and returns a number, an array, or a dict
-        of them (each key becomes a column). It must be picklable (a function defined at the top
-        level of a module, a notebook or a script) and may not depend on any state but its
-        arguments: then the numbers do not depend on where or in which order the runs ran.
+        of them (each key becomes a column). It must depend on its arguments only: then the
+        numbers do not depend on where or in which order the runs ran. It travels to the workers
+        with the tasks: a function (or lambda) of the calling script or notebook whole, one of a
+        module by its name, so that module must be importable there.
     grid: the parameters. A dict {name: list of values} runs the Cartesian product of the lists
         (the first name varies slowest); a list of dicts runs each dict as one point (all with the
         same names). Names are passed to ``run`` as keyword arguments.
@@ -64,8 +66,9 @@ def sweep(run, grid, seeds=1, client=None, *, workers=None, quiet=False, as_fram
     Arguments are checked before anything starts: a wrong type is a TypeError and a wrong value a
     ValueError, each naming the argument.
 
-    Call it from a script only under ``if __name__ == "__main__":``: the worker processes import
-    the script, and would otherwise start sweeps of their own.
+    Call it from a script only under ``if __name__ == "__main__":``: the local worker processes
+    import the script, and would otherwise start sweeps of their own (a call outside that guard
+    is a RuntimeError).
     """
     points = _points(grid)
     seed_list = _seeds(seeds)
@@ -249,7 +252,7 @@ def _run_one(run, point, seed):
     clock = time.perf_counter()
     try:
         results = run(**point, seed=seed)
-    except Exception as error:  # reported in the record: one failed run never stops the others
+    except (Exception, SystemExit) as error:  # reported in the record: one failed run never stops the others
         seconds = time.perf_counter() - clock
         frames = traceback.extract_tb(error.__traceback__)[1:]  # leave out this function's frame
         text = "".join(traceback.format_list(frames)) + "".join(traceback.format_exception_only(error))
@@ -279,22 +282,31 @@ def _run_on_dask(run, tasks, client, workers, progress):
                 raise ValueError(f"client: no Dask scheduler answers at {address!r} ({error}); start one with "
                                  "`dask scheduler` and workers with `dask worker ADDRESS`") from None
         futures = [client.submit(_run_one, run, point, seed, pure=False) for point, seed in tasks]
-        index = {future.key: k for k, future in enumerate(futures)}
-        outcomes = [None] * len(tasks)
-        for future in as_completed(futures):
-            k = index[future.key]
-            if future.status == "finished":
-                outcomes[k] = future.result()
-            else:  # the worker died (a crash in the run, memory) more often than Dask retries
-                error = future.exception()
-                outcomes[k] = (None, math.nan, f"worker lost: {_one_line(error)}",
-                               "".join(traceback.format_exception_only(error)))
-            future.release()
-            progress.update(1, outcomes[k][2] is not None)
-        return outcomes
+        try:
+            return _gather(futures, as_completed, progress)
+        except BaseException:  # an interrupt: the runs not done yet must not go on on a shared cluster
+            client.cancel(futures)
+            raise
     finally:
         if own_client is not None:
             own_client.close()  # and the local cluster it started
+
+
+def _gather(futures, as_completed, progress):
+    """The outcome of each future, in the futures' order, as they finish."""
+    index = {future.key: k for k, future in enumerate(futures)}
+    outcomes = [None] * len(futures)
+    for future in as_completed(futures):
+        k = index[future.key]
+        if future.status == "finished":
+            outcomes[k] = future.result()
+        else:  # the worker died (a crash in the run, memory) more often than Dask retries
+            error = future.exception()
+            lost = "worker lost: " if type(error).__name__ == "KilledWorker" else ""
+            outcomes[k] = (None, math.nan, lost + _one_line(error), "".join(traceback.format_exception_only(error)))
+        future.release()
+        progress.update(1, outcomes[k][2] is not None)
+    return outcomes
 
 
 def local_client(workers=None):
