@@ -7,6 +7,7 @@ argument, before any run starts. The DataFrame form is tested only where pandas 
 
 import logging
 import os
+import sys
 
 import numpy as np
 import pytest
@@ -221,3 +222,11 @@ def test_records_without_pandas_asked_for():
     records = billiard.sweep(failing_run, {"eta": [0.1], "n": [2]}, seeds=1, workers=0, quiet=True, as_frame=False)
     assert records == [{"eta": 0.1, "n": 2, "seed": 0, "result": 0.2, "run_time": records[0]["run_time"],
                         "error": None, "traceback": None}]
+
+
+def test_without_pandas_a_list_and_as_frame_true_is_refused(monkeypatch):
+    monkeypatch.setitem(sys.modules, "pandas", None)  # import pandas fails, as where it is not installed
+    records = billiard.sweep(failing_run, {"eta": [0.1], "n": [2]}, seeds=2, workers=0, quiet=True)
+    assert isinstance(records, list) and [r["seed"] for r in records] == [0, 1]
+    with pytest.raises(ValueError, match="^as_frame"):
+        billiard.sweep(unused_run, {"x": [1]}, workers=0, as_frame=True)
