@@ -202,6 +202,11 @@ def test_bad_arguments_are_refused_before_any_run(arguments, error, named):
         billiard.sweep(**call)
 
 
+def test_cluster_object_is_refused_with_a_hint(cluster):
+    with pytest.raises(TypeError, match="^client: .*LocalCluster; for a cluster object, pass its scheduler_address"):
+        billiard.sweep(unused_run, {"x": [1]}, client=cluster)
+
+
 def test_closed_client_is_refused(cluster):
     closed = Client(cluster)
     closed.close()

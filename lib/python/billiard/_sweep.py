@@ -49,7 +49,8 @@ def sweep(run, grid, seeds=1, client=None, *, workers=None, quiet=False, as_fram
     client: None (default) starts a local Dask cluster of ``workers`` processes with one thread
         each, and closes it at the end: no set-up, no server. A scheduler's address such as
         "tcp://host:8786" or a ``dask.distributed.Client`` runs on that cluster instead (its workers
-        must be able to import billiard and whatever ``run`` imports).
+        must be able to import billiard and whatever ``run`` imports). An address where no
+        scheduler answers within 10 s is a ValueError.
     workers: the number of local worker processes (default: the cores this process may use, at
         most one per run). 0 runs everything in this process, one run after the other, without
         Dask: for debugging, or where no processes can be started.
@@ -182,8 +183,9 @@ def _check_options(client, workers, quiet, as_frame):
             if "://" not in client and ":" not in client:
                 raise ValueError(f"client: {client!r} is not a scheduler address; give one like \"tcp://host:8786\"")
         elif not (hasattr(client, "submit") and hasattr(client, "scheduler")):
+            hint = "; for a cluster object, pass its scheduler_address" if hasattr(client, "scheduler_address") else ""
             raise TypeError(f"client: expected None, a scheduler address (\"tcp://host:8786\") or a "
-                            f"dask.distributed.Client, got {type(client).__name__}")
+                            f"dask.distributed.Client, got {type(client).__name__}{hint}")
         elif getattr(client, "status", "running") != "running":
             raise ValueError(f"client: the given Client is {client.status}, not running")
         if workers is not None:
@@ -312,8 +314,8 @@ def _gather(futures, as_completed, progress):
 def local_client(workers=None):
     """A dask.distributed Client on a new local cluster of `workers` processes (default: the cores
     this process may use) with one thread each, the cluster sweep starts by default. Several
-    sweeps with ``client=`` this share one start of the workers (about 3 s); close it, or use it
-    in a ``with`` block, to stop the workers."""
+    sweeps with ``client=`` this share one start of the workers (seconds: each imports Python,
+    Dask and numpy); close it, or use it in a ``with`` block, to stop the workers."""
     if workers is not None and (not isinstance(workers, numbers.Integral) or isinstance(workers, bool)):
         raise TypeError(f"workers: expected a number of processes, got {type(workers).__name__} {workers!r}")
     if workers is not None and workers < 1:
