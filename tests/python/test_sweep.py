@@ -169,6 +169,7 @@ def test_result_key_that_clashes_is_an_error_of_that_run():
     (dict(grid={"eta": []}), ValueError, "grid['eta']"),
     (dict(grid={"eta": 0.5}), TypeError, "grid['eta']"),
     (dict(grid={"eta": "0.5"}), TypeError, "grid['eta']"),
+    (dict(grid={"eta": np.array(0.5)}), TypeError, "grid['eta']"),
     (dict(grid={"seed": [1]}), ValueError, "grid"),
     (dict(grid={"not a name": [1]}), ValueError, "grid"),
     (dict(grid=[{"eta": 1}, {"n": 2}]), ValueError, "grid[1]"),

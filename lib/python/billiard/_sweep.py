@@ -108,9 +108,13 @@ def _points(grid):
         columns = []
         for name in names:
             values = grid[name]
-            if isinstance(values, (str, bytes, dict)) or not hasattr(values, "__iter__"):
-                raise TypeError(f"grid[{name!r}]: expected a list of values, got {type(values).__name__} {values!r}")
-            values = list(values)
+            try:
+                if isinstance(values, (str, bytes, dict)):
+                    raise TypeError
+                values = list(values)
+            except TypeError:  # not iterable, or iterable by accident (a string, a 0-d array)
+                raise TypeError(f"grid[{name!r}]: expected a list of values, got {type(values).__name__} "
+                                f"{values!r}") from None
             if not values:
                 raise ValueError(f"grid[{name!r}]: no values; give at least one")
             columns.append(values)
