@@ -7,6 +7,7 @@ argument, before any run starts. The DataFrame form is tested only where pandas 
 
 import logging
 import os
+import subprocess
 import sys
 
 import numpy as np
@@ -236,3 +237,14 @@ def test_without_pandas_a_list_and_as_frame_true_is_refused(monkeypatch):
     assert isinstance(records, list) and [r["seed"] for r in records] == [0, 1]
     with pytest.raises(ValueError, match="^as_frame"):
         billiard.sweep(unused_run, {"x": [1]}, workers=0, as_frame=True)
+
+
+def test_script_without_main_guard_is_refused_before_workers_start(tmp_path):
+    # Its workers would import the script and start workers of their own, without end.
+    script = tmp_path / "unguarded.py"
+    script.write_text("import billiard\n\n\ndef run(x, seed):\n    return x\n\n\n"
+                      "billiard.sweep(run, {'x': [1, 2]}, workers=2)\n")
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 1
+    assert "RuntimeError: billiard: starting local worker processes from the top level of" in done.stderr
+    assert 'put the call under `if __name__ == "__main__":`' in done.stderr

@@ -75,7 +75,6 @@ def sweep(run, grid, seeds=1, client=None, *, workers=None, quiet=False, as_fram
     seed_list = _seeds(seeds)
     _check_run(run, points[0], seed_list[0])
     _check_options(client, workers, quiet, as_frame)
-    _refuse_inside_worker_start()
 
     tasks = [(point, seed) for point in points for seed in seed_list]
     progress = _Progress(len(tasks), quiet)
@@ -249,8 +248,8 @@ def _refuse_inside_worker_start():
     # process as "inheriting" meanwhile); a sweep at the script's top level would start there
     # again, and again in its workers.
     if getattr(multiprocessing.current_process(), "_inheriting", False):
-        raise RuntimeError("billiard: a sweep or local_client started while a worker process imports the script; start it under "
-                           "`if __name__ == \"__main__\":` in scripts")
+        raise RuntimeError("billiard: local workers started while a worker process imports the script; "
+                           "start them under `if __name__ == \"__main__\":` in scripts")
 
 
 def _run_one(run, point, seed):
