@@ -41,6 +41,7 @@ python_packages=(
   ffmpeg                         # MP4 animations
   python3-pytest                 # the module's tests
   jupyter-nbconvert python3-nbclient python3-ipykernel  # running the notebooks headless
+  python3-dask python3-distributed  # billiard.sweep: ensembles of runs on worker processes or a cluster
 )
 
 # install_missing_packages [PACKAGE...]: the core packages above and the given ones.

@@ -16,6 +16,10 @@ lists them): ``propagate_gravity``, ``mean_energy``, ``propagate_walls``, ``prop
 Time stepping of point particles in level-set domains, for comparison with the exact engine:
 ``billiard.stepping`` (``billiard.Stepper`` is its integrator).
 
+Ensembles: ``billiard.sweep(run, grid, seeds=...)`` runs a function of parameters and a seed
+over a parameter grid and seeds in parallel worker processes (Dask; a local cluster by default,
+or a Dask cluster's address) and returns one record per run.
+
 Drawing and animation: ``billiard.plotting`` (matplotlib). Errors in arguments arrive as
 ValueError with the library's message, naming the argument; an argument of the wrong Python type
 (a string for a number, a list where a numpy array is required, an int beyond the C++ parameter's
@@ -41,6 +45,7 @@ from ._billiard import (  # noqa: F401  (re-exported)
 )
 from . import _billiard
 from ._billiard import stages  # noqa: F401  (the extension stages this build has: stages.available)
+from ._sweep import local_client, sweep  # noqa: F401  (re-exported; import Dask only when called)
 
 if hasattr(_billiard, "Simulation"):
     from ._billiard import DISC_DISC, DISC_WALL, SLEEP, WAKE, Simulation  # noqa: F401
@@ -80,5 +85,6 @@ if hasattr(_billiard, "stepping"):
 
 __all__ = [
     "DISC_DISC", "DISC_WALL", "SLEEP", "WAKE", "Simulation", "WALL", "Collision", "Rng", "correct_energy_drift", "course_implementation", "init_billiard",
-    "init_velocities", "kinetic_energy", "movie", "propagate", "stages", "stepping", "Stepper", "visualize_table",
+    "init_velocities", "kinetic_energy", "local_client", "movie", "propagate", "stages", "stepping", "Stepper", "sweep",
+    "visualize_table",
 ]
