@@ -95,6 +95,7 @@ const char* wall_kind(WallKind kind) {
     case WallKind::Segment: return "segment";
     case WallKind::Point: return "point";
     case WallKind::Circle: return "circle";
+    case WallKind::Arc: return "arc";
   }
   return "unknown";
 }
@@ -273,11 +274,14 @@ mass (n,), radius (n,), inertia (n,). Bad input raises ValueError naming the dis
               d["a"] = py::make_tuple(w.a.x(), w.a.y());
               d["b"] = py::make_tuple(w.b.x(), w.b.y());
               d["radius"] = w.radius;
+              d["start_angle"] = w.start_angle;
+              d["sweep"] = w.sweep;
               out.append(d);
             }
             return out;
           },
-          "The walls as dicts: kind ('segment', 'point', 'circle'), a, b, radius.")
+          "The walls as dicts: kind ('segment', 'point', 'circle', 'arc'), a, b, radius, start_angle, sweep\n"
+          "(an arc: centre a, from start_angle counter-clockwise through sweep radians).")
       .def_property_readonly("gravity", [](const Simulation& s) { return py::make_tuple(s.gravity().x(), s.gravity().y()); },
                              "Uniform gravity (gx, gy).")
       .def_property_readonly("period", [](const Simulation& s) { return py::make_tuple(s.period().x(), s.period().y()); },

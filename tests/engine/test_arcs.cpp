@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <functional>
 
 using billiard::kNever;
@@ -169,4 +170,196 @@ TEST(ArcTime, UnderGravityAgreesWithADirectNumericSearch) {
     // fall within one step (1e-4): none do here.
     EXPECT_NEAR(t, expected, 1e-9 * (1 + expected)) << "r = (" << c.r.x() << ", " << c.r.y() << ")";
   }
+}
+
+// ---- The arc as a wall of the engine ----
+
+namespace {
+
+using engine_test::make_disc;
+
+// The first event of a one-disc simulation.
+billiard::EventRecord first_event(billiard::Simulation& sim) {
+  sim.enable_event_log(true);
+  const billiard::AdvanceResult result = sim.advance(1);
+  EXPECT_EQ(result.collisions, 1);
+  EXPECT_EQ(sim.validate(), "");
+  return sim.event_log().empty() ? billiard::EventRecord{} : sim.event_log().back();
+}
+
+}  // namespace
+
+TEST(ArcWall, DiscThroughTheGapMeetsTheInsideOfAFreeArc) {
+  // The upper half of rho = 5 in the box [-10, 10]^2; a disc of radius 0.5 from (0, -8) moving
+  // up passes the open lower half and meets the inside of the arc at y = 4.5, t = 12.5, and
+  // bounces straight back.
+  billiard::Simulation sim;
+  sim.add_box(Vec2(-10, -10), Vec2(10, 10));
+  const int arc = sim.add_arc(Vec2(0, 0), 5, 0, kPi);
+  sim.add_disc(make_disc(Vec2(0, -8), Vec2(0, 1), 0.5));
+  const billiard::EventRecord e = first_event(sim);
+  EXPECT_EQ(e.wall, arc);
+  EXPECT_DOUBLE_EQ(e.time, 12.5);
+  EXPECT_NEAR(e.velocity.x(), 0, 1e-15);
+  EXPECT_DOUBLE_EQ(e.velocity.y(), -1);
+  // The arc's end points are point walls.
+  int points = 0;
+  for (const billiard::WallShape& w : sim.walls()) {
+    if (w.kind == billiard::WallKind::Point && ((w.a - Vec2(5, 0)).norm() < 1e-14 || (w.a - Vec2(-5, 0)).norm() < 1e-14)) ++points;
+  }
+  EXPECT_EQ(points, 2);
+}
+
+TEST(ArcWall, DiscAimedAtAnEndPointHitsThePoint) {
+  // From (5, -3) straight up at the end point (5, 0): contact at t = 3 - 0.5 = 2.5, head on.
+  billiard::Simulation sim;
+  sim.add_box(Vec2(-10, -10), Vec2(10, 10));
+  sim.add_arc(Vec2(0, 0), 5, 0, kPi);
+  sim.add_disc(make_disc(Vec2(5, -3), Vec2(0, 1), 0.5));
+  const billiard::EventRecord e = first_event(sim);
+  ASSERT_GE(e.wall, 0);
+  EXPECT_EQ(sim.walls()[static_cast<std::size_t>(e.wall)].kind, billiard::WallKind::Point);
+  EXPECT_DOUBLE_EQ(e.time, 2.5);
+  EXPECT_NEAR(e.velocity.y(), -1, 1e-15);
+}
+
+TEST(ArcWall, DiscAimedAtTheGapReachesTheBoxWall) {
+  // Moving right along y = -2 under the upper-half arc: nothing until the box wall x = 10 at
+  // t = (9.5 - (-8)) = 17.5.
+  billiard::Simulation sim;
+  sim.add_box(Vec2(-10, -10), Vec2(10, 10));
+  sim.add_arc(Vec2(0, 0), 5, 0, kPi);
+  sim.add_disc(make_disc(Vec2(-8, -2), Vec2(1, 0), 0.5));
+  const billiard::EventRecord e = first_event(sim);
+  EXPECT_EQ(sim.walls()[static_cast<std::size_t>(e.wall)].kind, billiard::WallKind::Segment);
+  EXPECT_DOUBLE_EQ(e.time, 17.5);
+}
+
+TEST(ArcWall, DiscObstacleGrazedAndHit) {
+  // Obstacle rho = 2 at the origin, disc radius 1 along y = b from x = -10 at speed 1.
+  auto run = [](double b) {
+    billiard::Simulation sim;
+    sim.add_box(Vec2(-20, -20), Vec2(20, 20));
+    sim.add_disc_obstacle(Vec2(0, 0), 2);
+    sim.add_disc(make_disc(Vec2(-10, b), Vec2(1, 0), 1));
+    return first_event(sim);
+  };
+  // Grazing at distance 3: touches at t = 10, velocity unchanged (v.n = 0).
+  const billiard::EventRecord graze = run(3);
+  EXPECT_DOUBLE_EQ(graze.time, 10);
+  EXPECT_NEAR(graze.velocity.x(), 1, 1e-15);
+  EXPECT_NEAR(graze.velocity.y(), 0, 1e-15);
+  // Just inside: contact at x = -sqrt(9 - b^2), mirror reflection about n = (x, b) / 3.
+  const double b = 2.5;
+  const billiard::EventRecord hit = run(b);
+  const double x = -std::sqrt(9 - b * b);
+  EXPECT_NEAR(hit.time, 10 + x, 1e-12);
+  const Vec2 n = Vec2(x, b) / 3, v(1, 0);
+  const Vec2 expected = v - 2 * v.dot(n) * n;
+  EXPECT_NEAR(hit.velocity.x(), expected.x(), 1e-12);
+  EXPECT_NEAR(hit.velocity.y(), expected.y(), 1e-12);
+  // Just outside: it reaches the box wall x = 20 at t = 29.
+  EXPECT_DOUBLE_EQ(run(3.001).time, 29);
+}
+
+TEST(ArcWall, DiscsInsideAFreeRingStayInsideItUnderGravity) {
+  // A whole free circle of radius 5 at (3, 2) inside a box: discs placed inside it stay there.
+  billiard::Simulation sim;
+  sim.add_box(Vec2(-10, -10), Vec2(20, 20));
+  sim.add_arc(Vec2(3, 2), 5, 1, 1 + 2 * kPi);
+  sim.set_gravity(Vec2(0.1, -1));
+  for (int k = 0; k < 6; ++k) sim.add_disc(make_disc(Vec2(3 + 1.2 * (k - 2.5), 2 + 0.3 * k), Vec2(std::cos(k), std::sin(k)), 0.4));
+  const double energy = sim.kinetic_energy() + sim.potential_energy();
+  sim.advance(20000);
+  EXPECT_EQ(sim.validate(), "");
+  const billiard::State s = sim.current_state();
+  for (Eigen::Index i = 0; i < s.positions.rows(); ++i) {
+    EXPECT_LE((Vec2(s.positions.row(i).transpose()) - Vec2(3, 2)).norm(), 5 - 0.4 + 1e-9);
+  }
+  EXPECT_NEAR(sim.kinetic_energy() + sim.potential_energy(), energy, 1e-9 * energy);
+}
+
+// ---- Curved containers over many collisions ----
+
+namespace {
+
+// Runs `events` collisions in blocks, checking every event's discs (set_check_event_discs) and
+// the whole system (validate) after each block; returns the relative change of kinetic plus
+// potential energy.
+double long_run(billiard::Simulation& sim, std::int64_t events, std::int64_t block) {
+  const double e0 = sim.kinetic_energy() + sim.potential_energy();
+  sim.set_check_event_discs(true);
+  for (std::int64_t done = 0; done < events;) {
+    const billiard::AdvanceResult result = sim.advance(std::min(block, events - done));
+    EXPECT_FALSE(result.stuck) << result.stuck_reason;
+    EXPECT_EQ(sim.last_problem(), "") << "after " << done << " collisions";
+    EXPECT_EQ(sim.validate(), "") << "after " << done << " collisions";
+    if (result.collisions == 0 || !sim.last_problem().empty()) return kNever;
+    done += result.collisions;
+  }
+  const double error = std::abs(sim.kinetic_energy() + sim.potential_energy() - e0) / std::abs(e0);
+  std::printf("relative energy error %.3g after %lld collisions\n", error, static_cast<long long>(events));
+  return error;
+}
+
+}  // namespace
+
+TEST(CurvedContainer, StressStadiumUnderGravityKeepsEnergyOverAMillionCollisions) {
+  // 100 discs of radius 0.4 in a stadium of radius 10 and length 10 under g = (0.2, -1). Energy
+  // (kinetic plus potential) changes only by rounding: about 1e-16 relative per collision as a
+  // random walk, larger under gravity because positions enter the potential energy (the gravity
+  // tests allow 1e-10 over 2e4 collisions); over 1e6 collisions we allow 1e-9.
+  billiard::Simulation sim;
+  sim.add_stadium(Vec2(0, 0), 10, 10);
+  sim.set_gravity(Vec2(0.2, -1));
+  sim.add_random_discs(100, 0.4, 1.0, 5.0, 31);
+  EXPECT_LT(long_run(sim, 1000000, 5000), 1e-9);
+}
+
+TEST(CurvedContainer, StadiumUnderGravityKeepsEnergy) {
+  // The stress test above, shorter (1e5 collisions, a second): the same bound.
+  billiard::Simulation sim;
+  sim.add_stadium(Vec2(0, 0), 10, 10);
+  sim.set_gravity(Vec2(0.2, -1));
+  sim.add_random_discs(100, 0.4, 1.0, 5.0, 35);
+  EXPECT_LT(long_run(sim, 100000, 5000), 1e-9);
+}
+
+TEST(CurvedContainer, SinaiBilliardKeepsEnergy) {
+  billiard::Simulation sim;
+  sim.add_sinai_billiard(Vec2(0, 0), Vec2(20, 20), 5);
+  sim.add_random_discs(100, 0.4, 1.0, 1.0, 32);
+  EXPECT_LT(long_run(sim, 200000, 5000), 1e-11);
+  // No disc inside the obstacle.
+  const billiard::State s = sim.current_state();
+  for (Eigen::Index i = 0; i < s.positions.rows(); ++i) {
+    EXPECT_GE((Vec2(s.positions.row(i).transpose()) - Vec2(10, 10)).norm(), 5 + 0.4 - 1e-9);
+  }
+}
+
+TEST(CurvedContainer, MushroomKeepsEnergy) {
+  billiard::Simulation sim;
+  sim.add_mushroom(Vec2(0, 0), 10, 6, 8);
+  sim.add_random_discs(100, 0.4, 1.0, 1.0, 33);
+  EXPECT_LT(long_run(sim, 200000, 5000), 1e-11);
+}
+
+TEST(CurvedContainer, UnionOfCirclesKeepsEnergy) {
+  // Three overlapping circles with a concave corner wherever two boundaries meet, and a fourth
+  // circle inside the first (no boundary of its own).
+  billiard::Simulation sim;
+  billiard::Points centres(4, 2);
+  centres << 0, 0, 12, 0, 6, 9, 1, 1;
+  sim.add_union_of_circles(centres, {8, 6, 5, 2});
+  int arcs = 0, points = 0;
+  for (const billiard::WallShape& w : sim.walls()) {
+    arcs += w.kind == billiard::WallKind::Arc ? 1 : 0;
+    points += w.kind == billiard::WallKind::Point ? 1 : 0;
+  }
+  // Each of the three outer circles leaves one boundary arc; the three pairs meet at one outer
+  // corner each (their other intersections lie inside the third circle or not: counted below).
+  EXPECT_EQ(arcs, points);
+  EXPECT_GE(arcs, 3);
+  sim.add_random_discs(100, 0.3, 1.0, 1.0, 34);
+  EXPECT_LT(long_run(sim, 200000, 5000), 1e-11);
 }
