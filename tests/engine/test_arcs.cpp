@@ -363,3 +363,105 @@ TEST(CurvedContainer, UnionOfCirclesKeepsEnergy) {
   sim.add_random_discs(100, 0.3, 1.0, 1.0, 34);
   EXPECT_LT(long_run(sim, 200000, 5000), 1e-11);
 }
+
+// ---- Inside tests and bad arguments ----
+
+TEST(CurvedContainer, InsideTestsOfTheCurvedOutlines) {
+  // A disc is accepted only inside the container and clear of its walls.
+  auto accepts = [](const std::function<void(billiard::Simulation&)>& build, const Vec2& p, double a) {
+    billiard::Simulation sim;
+    build(sim);
+    try {
+      sim.add_disc(make_disc(p, Vec2(1, 0), a));
+      return true;
+    } catch (const std::invalid_argument&) {
+      return false;
+    }
+  };
+  auto stadium = [](billiard::Simulation& sim) { sim.add_stadium(Vec2(1, 2), 3, 4); };
+  EXPECT_TRUE(accepts(stadium, Vec2(1, 2), 0.5));
+  EXPECT_TRUE(accepts(stadium, Vec2(1 + 2 + 2.4, 2), 0.5));   // in the right half circle
+  EXPECT_FALSE(accepts(stadium, Vec2(1 + 2 + 2.6, 2), 0.5));  // overlaps it
+  EXPECT_FALSE(accepts(stadium, Vec2(1 + 2 + 3.5, 2), 0.5));  // outside
+  EXPECT_FALSE(accepts(stadium, Vec2(1, 2 + 3.5), 0.5));      // above the top side
+  EXPECT_FALSE(accepts(stadium, Vec2(1 + 2 + 2.5, 2 + 2.5), 0.1));  // beyond the corner of the box of the arcs
+  auto sinai = [](billiard::Simulation& sim) { sim.add_sinai_billiard(Vec2(0, 0), Vec2(10, 10), 2); };
+  EXPECT_TRUE(accepts(sinai, Vec2(1, 1), 0.5));
+  EXPECT_FALSE(accepts(sinai, Vec2(5, 5), 0.5));  // inside the obstacle
+  EXPECT_TRUE(accepts(sinai, Vec2(5, 7.6), 0.5));
+  EXPECT_FALSE(accepts(sinai, Vec2(5, 7.4), 0.5));  // overlaps the obstacle
+  auto mushroom = [](billiard::Simulation& sim) { sim.add_mushroom(Vec2(0, 0), 5, 2, 4); };
+  EXPECT_TRUE(accepts(mushroom, Vec2(0, -3), 0.5));   // in the stem
+  EXPECT_TRUE(accepts(mushroom, Vec2(3, 0.6), 0.5));  // in the cap, above the ledge
+  EXPECT_FALSE(accepts(mushroom, Vec2(3, -1), 0.5));  // beside the stem, under the cap
+  EXPECT_TRUE(accepts(mushroom, Vec2(0, 0), 0.5));    // where the stem meets the cap
+  billiard::Points centres(2, 2);
+  centres << 0, 0, 3, 0;
+  auto pair = [&](billiard::Simulation& sim) { sim.add_union_of_circles(centres, {2, 2}); };
+  EXPECT_TRUE(accepts(pair, Vec2(1.5, 0), 0.5));
+  EXPECT_TRUE(accepts(pair, Vec2(4, 0), 0.5));
+  EXPECT_FALSE(accepts(pair, Vec2(1.5, 1.5), 0.5));  // at the upper corner where the circles meet
+  EXPECT_FALSE(accepts(pair, Vec2(1.5, 3), 0.5));    // outside both
+}
+
+namespace {
+// Runs `call`, expects std::invalid_argument whose message contains `piece`, and the simulation's
+// walls unchanged.
+template <class Call>
+void expect_refused(billiard::Simulation& sim, Call call, const char* piece) {
+  const std::size_t walls = sim.walls().size();
+  try {
+    call();
+    ADD_FAILURE() << "no exception for " << piece;
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(piece), std::string::npos) << e.what() << " lacks " << piece;
+  }
+  EXPECT_EQ(sim.walls().size(), walls) << piece;
+}
+}  // namespace
+
+TEST(CurvedContainer, BadArgumentsAreRefusedNamingTheArgumentAndLeaveTheStateUnchanged) {
+  billiard::Simulation sim;
+  sim.add_box(Vec2(-50, -50), Vec2(50, 50));
+  sim.add_disc(make_disc(Vec2(0, 0), Vec2(1, 0), 1));
+  const double nan = std::nan("");
+  expect_refused(sim, [&] { sim.add_arc(Vec2(nan, 0), 1, 0, 1); }, "add_arc: centre");
+  expect_refused(sim, [&] { sim.add_arc(Vec2(5, 5), -1, 0, 1); }, "add_arc: radius");
+  expect_refused(sim, [&] { sim.add_arc(Vec2(5, 5), 1, kNever, 1); }, "add_arc: start_angle");
+  expect_refused(sim, [&] { sim.add_arc(Vec2(5, 5), 1, 0, nan); }, "add_arc: end_angle");
+  expect_refused(sim, [&] { sim.add_arc(Vec2(5, 5), 1, 1, 1); }, "end_angle - start_angle");
+  expect_refused(sim, [&] { sim.add_arc(Vec2(5, 5), 1, 0, 7); }, "end_angle - start_angle");
+  expect_refused(sim, [&] { sim.add_arc(Vec2(0, 1.5), 1, kPi, 2 * kPi); }, "overlaps disc 0");
+  expect_refused(sim, [&] { sim.add_disc_obstacle(Vec2(0, 0), 3); }, "add_disc_obstacle: disc 0");
+  expect_refused(sim, [&] { sim.add_disc_obstacle(Vec2(0, 0), 0); }, "add_disc_obstacle: radius");
+  expect_refused(sim, [&] { sim.add_stadium(Vec2(0, 0), 0, 1); }, "add_stadium: radius");
+  expect_refused(sim, [&] { sim.add_stadium(Vec2(0, 0), 1, -1); }, "add_stadium: length");
+  expect_refused(sim, [&] { sim.add_stadium(Vec2(0, kNever), 1, 1); }, "add_stadium: centre");
+  expect_refused(sim, [&] { sim.add_stadium(Vec2(0, 0), 0.5, 1); }, "add_stadium: disc 0");
+  expect_refused(sim, [&] { sim.add_sinai_billiard(Vec2(0, 0), Vec2(-1, 1), 0.1); }, "add_sinai_billiard: upper");
+  expect_refused(sim, [&] { sim.add_sinai_billiard(Vec2(-10, -10), Vec2(10, 10), 10); }, "add_sinai_billiard: obstacle_radius");
+  // All or nothing: the box fits around the disc, the obstacle does not; neither is added.
+  billiard::Simulation bare;
+  bare.add_disc(make_disc(Vec2(0, 0), Vec2(1, 0), 1));
+  expect_refused(bare, [&] { bare.add_sinai_billiard(Vec2(-10, -10), Vec2(10, 10), 2); }, "add_disc_obstacle: disc 0");
+  EXPECT_TRUE(bare.walls().empty());
+  expect_refused(sim, [&] { sim.add_mushroom(Vec2(0, 0), -1, 1, 1); }, "add_mushroom: cap_radius");
+  expect_refused(sim, [&] { sim.add_mushroom(Vec2(0, 0), 5, 10, 1); }, "add_mushroom: stem_width");
+  expect_refused(sim, [&] { sim.add_mushroom(Vec2(0, 0), 5, 2, 0); }, "add_mushroom: stem_height");
+  billiard::Points centres(2, 2);
+  centres << 0, 0, 3, 0;
+  expect_refused(sim, [&] { sim.add_union_of_circles(centres, {2}); }, "add_union_of_circles: radii");
+  expect_refused(sim, [&] { sim.add_union_of_circles(centres, {2, -1}); }, "add_union_of_circles: circle 1: radius");
+  expect_refused(sim, [&] { sim.add_union_of_circles(billiard::Points(0, 2), {}); }, "add_union_of_circles: centres");
+  billiard::Points twice(2, 2);
+  twice << 1, 1, 1, 1;
+  expect_refused(sim, [&] { sim.add_union_of_circles(twice, {2, 2}); }, "coincide");
+  // Periodic boxes have no walls.
+  billiard::Simulation periodic;
+  periodic.set_periodic_box(10, 10);
+  expect_refused(periodic, [&] { periodic.add_arc(Vec2(5, 5), 1, 0, 1); }, "periodic");
+  expect_refused(periodic, [&] { periodic.add_stadium(Vec2(5, 5), 1, 1); }, "periodic");
+  // The simulation still runs.
+  EXPECT_EQ(sim.advance(3).collisions, 3);
+  EXPECT_EQ(sim.validate(), "");
+}
