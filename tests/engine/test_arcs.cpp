@@ -395,6 +395,14 @@ TEST(CurvedContainer, InsideTestsOfTheCurvedOutlines) {
   EXPECT_TRUE(accepts(mushroom, Vec2(3, 0.6), 0.5));  // in the cap, above the ledge
   EXPECT_FALSE(accepts(mushroom, Vec2(3, -1), 0.5));  // beside the stem, under the cap
   EXPECT_TRUE(accepts(mushroom, Vec2(0, 0), 0.5));    // where the stem meets the cap
+  auto table_with_obstacle = [](billiard::Simulation& sim) {
+    sim.set_circular_table(10);
+    sim.add_disc_obstacle(Vec2(3, 0), 2);
+  };
+  EXPECT_TRUE(accepts(table_with_obstacle, Vec2(0, 0), 0.5));
+  EXPECT_TRUE(accepts(table_with_obstacle, Vec2(-8, 0), 0.5));
+  EXPECT_FALSE(accepts(table_with_obstacle, Vec2(3, 0.5), 0.5));  // inside the obstacle
+  EXPECT_FALSE(accepts(table_with_obstacle, Vec2(9.8, 0), 0.5));  // outside the table
   billiard::Points centres(2, 2);
   centres << 0, 0, 3, 0;
   auto pair = [&](billiard::Simulation& sim) { sim.add_union_of_circles(centres, {2, 2}); };
