@@ -356,8 +356,8 @@ TEST(CurvedContainer, UnionOfCirclesKeepsEnergy) {
     arcs += w.kind == billiard::WallKind::Arc ? 1 : 0;
     points += w.kind == billiard::WallKind::Point ? 1 : 0;
   }
-  // Each of the three outer circles leaves one boundary arc; the three pairs meet at one outer
-  // corner each (their other intersections lie inside the third circle or not: counted below).
+  // The boundary is one closed curve (the middle is covered): one corner where each two arcs
+  // meet, so as many point walls as arcs, and at least one arc per outer circle.
   EXPECT_EQ(arcs, points);
   EXPECT_GE(arcs, 3);
   sim.add_random_discs(100, 0.3, 1.0, 1.0, 34);
