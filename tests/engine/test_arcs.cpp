@@ -473,3 +473,41 @@ TEST(CurvedContainer, BadArgumentsAreRefusedNamingTheArgumentAndLeaveTheStateUnc
   EXPECT_EQ(sim.advance(3).collisions, 3);
   EXPECT_EQ(sim.validate(), "");
 }
+
+TEST(ArcWall, FreeArcsUnderGravityWithDiscsPassingTheirGaps) {
+  // A cup (lower half circle) and a dome (upper half circle) hanging in a box under gravity:
+  // discs fall into the cup through its open top, onto the dome and past the ends of both, so
+  // every kind of arc contact happens. Every event is validated; energy to 1e-10 (as the
+  // gravity tests).
+  billiard::Simulation sim;
+  sim.add_box(Vec2(-15, -15), Vec2(15, 15));
+  const int cup = sim.add_arc(Vec2(0, -4), 6, kPi, 2 * kPi);
+  const int dome = sim.add_arc(Vec2(0, 8), 4, 0, kPi);
+  sim.set_gravity(Vec2(0.1, -1));
+  sim.add_random_discs(40, 0.5, 1.0, 4.0, 36);
+  const double energy = sim.kinetic_energy() + sim.potential_energy();
+  sim.set_validate_every_event(true);
+  sim.enable_event_log(true);
+  const billiard::AdvanceResult result = sim.advance(20000);
+  EXPECT_EQ(sim.last_problem(), "");
+  EXPECT_FALSE(result.stuck) << result.stuck_reason;
+  EXPECT_EQ(result.collisions, 20000);
+  EXPECT_NEAR(sim.kinetic_energy() + sim.potential_energy(), energy, 1e-10 * std::abs(energy));
+  // Each face of each arc, and the arcs' end points, were hit.
+  int inside[2] = {0, 0}, outside[2] = {0, 0}, ends = 0;
+  for (const billiard::EventRecord& e : sim.event_log()) {
+    if (e.wall == cup || e.wall == dome) {
+      const int k = e.wall == cup ? 0 : 1;
+      const billiard::WallShape& arc = sim.walls()[static_cast<std::size_t>(e.wall)];
+      ((e.position - arc.a).norm() < arc.radius ? inside : outside)[k]++;
+    } else if (e.wall >= 0 && sim.walls()[static_cast<std::size_t>(e.wall)].kind == billiard::WallKind::Point &&
+               sim.walls()[static_cast<std::size_t>(e.wall)].a.cwiseAbs().maxCoeff() < 15) {
+      ++ends;
+    }
+  }
+  EXPECT_GT(inside[0], 0);
+  EXPECT_GT(outside[0], 0);
+  EXPECT_GT(inside[1], 0);
+  EXPECT_GT(outside[1], 0);
+  EXPECT_GT(ends, 0);
+}
