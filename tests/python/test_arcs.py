@@ -80,3 +80,24 @@ def test_bad_arguments_raise_value_error_naming_the_argument():
     with pytest.raises(ValueError, match="radii"):
         sim.add_union_of_circles([[0, 0]], "wide")
     assert len(sim.walls) == walls
+
+
+def test_stadium_drawn_with_its_arcs_and_straight_sides():
+    matplotlib = pytest.importorskip("matplotlib")
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Arc
+    import billiard.plotting as bp
+
+    sim = billiard.Simulation()
+    sim.add_stadium((0.0, 0.0), 5.0, 4.0)  # spans x in [-7, 7], y in [-5, 5]
+    sim.add_random_discs(10, 0.3, seed=2)
+    walls = bp.simulation_walls(sim)
+    assert len(walls["walls"]) == 2 and len(walls["arcs"]) == 2 and "table_radius" not in walls
+    ax = Figure().add_subplot()
+    bp.draw_table(ax, sim.current_state, **walls)
+    assert len([p for p in ax.patches if isinstance(p, Arc)]) == 2
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    assert -7.5 < x0 <= -7 and 7 <= x1 < 7.5 and -5.5 < y0 <= -5 and 5 <= y1 < 5.5
+    with pytest.raises(ValueError, match="arcs"):
+        bp.draw_table(Figure().add_subplot(), sim.current_state, arcs=[[0, 0, 1, 2, 1]])
