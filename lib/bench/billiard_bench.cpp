@@ -1,14 +1,15 @@
 // billiard_bench: collisions per second of the event-driven engine.
 //
-// For each N, area fraction, container (box, table, periodic) and gravity setting: discs of
-// radius 1 on a square lattice (so any density up to pi/4 is reachable without a slow random
-// placement), random Gaussian velocities, a warm-up of --warmup collisions per disc... then
-// --repeats timed runs of --events collisions each (at one N the densities' runs take turns); the
+// For each N, area fraction, container (box, table, periodic, stadium, sinai) and gravity
+// setting: discs of radius 1 on a square lattice (so any density up to pi/4 is reachable without a
+// slow random placement), random Gaussian velocities, a warm-up of --warmup collisions per disc...
+// then --repeats timed runs of --events collisions each (at one N the runs of all containers and
+// densities take turns); the
 // median rate is reported. "Collisions" are disc-disc plus disc-wall events (cell crossings are
 // counted apart). The course's all-pairs propagate (O(N^2) per event) is timed at small N for
 // comparison.
 //
-//   billiard_bench [--n 100,1000,...] [--density 0.1,0.5] [--containers box,table,periodic]
+//   billiard_bench [--n 100,1000,...] [--density 0.1,0.5] [--containers box,table,periodic,stadium,sinai]
 //                  [--gravity 0,1] [--repeats 5] [--events 1000000] [--course-n 100,1000]
 //                  [--cell SIZE] [--prefetch auto|on|off] [--json FILE] [--wall]
 //   billiard_bench --granular 0.5,0.8 [--n 1000] [--containers box,table] [--settle-time 200]
@@ -35,6 +36,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <random>
 #include <sstream>
@@ -133,19 +135,47 @@ billiard::Simulation make_system(const std::string& container, long n, double de
   const double area = static_cast<double>(n) * M_PI / density;  // radius 1
   billiard::Simulation sim;
   billiard::Points positions;
+  // Curved containers: a square lattice clipped to the points whose discs fit (clear of the walls
+  // by 1e-7), the spacing shrunk until n fit.
+  std::function<bool(const Vec2&)> fits;
+  double reach = 0;         // the lattice covers [-reach, reach]^2
+  double fitting_area = 0;  // roughly where centres fit: the first spacing tried fills it
   if (container == "table") {
     const double radius = std::sqrt(area / M_PI);
     sim.set_circular_table(radius);
-    // Square lattice clipped to the disc of radius R - 1; shrink the spacing until n fit.
-    double spacing = std::sqrt(M_PI * (radius - 1) * (radius - 1) / static_cast<double>(n));
+    fits = [radius](const Vec2& p) { return p.norm() <= radius - 1.0000001; };
+    reach = radius;
+    fitting_area = M_PI * (radius - 1) * (radius - 1);
+  } else if (container == "stadium") {
+    // Straight sides as long as the diameter: area = (pi + 4) R^2.
+    const double radius = std::sqrt(area / (M_PI + 4));
+    sim.add_stadium(Vec2(0, 0), radius, 2 * radius);
+    fits = [radius](const Vec2& p) {
+      const Vec2 nearest_centre(std::clamp(p.x(), -radius, radius), 0.0);
+      return (p - nearest_centre).norm() <= radius - 1.0000001;
+    };
+    reach = 2 * radius;
+    fitting_area = area;
+  } else if (container == "sinai") {
+    // A square of side s with an obstacle of radius s / 4 in the middle: area = (1 - pi / 16) s^2.
+    const double side = std::sqrt(area / (1 - M_PI / 16));
+    sim.add_sinai_billiard(Vec2(-side / 2, -side / 2), Vec2(side / 2, side / 2), side / 4);
+    fits = [side](const Vec2& p) {
+      return p.cwiseAbs().maxCoeff() <= side / 2 - 1.0000001 && p.norm() >= side / 4 + 1.0000001;
+    };
+    reach = side / 2;
+    fitting_area = area;
+  }
+  if (fits) {
+    double spacing = std::sqrt(fitting_area / static_cast<double>(n));
     std::vector<Vec2> points;
     while (true) {
       points.clear();
-      const long half = static_cast<long>(std::ceil(radius / spacing)) + 1;
+      const long half = static_cast<long>(std::ceil(reach / spacing)) + 1;
       for (long iy = -half; iy <= half; ++iy) {
         for (long ix = -half; ix <= half; ++ix) {
           const Vec2 p((static_cast<double>(ix) + 0.5) * spacing, (static_cast<double>(iy) + 0.5) * spacing);
-          if (p.norm() <= radius - 1.0000001) points.push_back(p);
+          if (fits(p)) points.push_back(p);
         }
       }
       if (static_cast<long>(points.size()) >= n) break;
@@ -270,7 +300,7 @@ int main(int argc, char** argv) {
         std::cerr << "billiard_bench: unknown option '" << arg << "' (--help lists the options)\n";
         return 2;
       } else {
-        std::cout << "usage: billiard_bench [--n LIST] [--density LIST] [--containers box,table,periodic]\n"
+        std::cout << "usage: billiard_bench [--n LIST] [--density LIST] [--containers box,table,periodic,stadium,sinai]\n"
                      "                      [--gravity 0,1] [--repeats R] [--events E] [--warmup W]\n"
                      "                      [--course-n LIST] [--cell SIZE] [--prefetch auto|on|off]\n"
                      "                      [--json FILE] [--wall]\n"
@@ -282,6 +312,12 @@ int main(int argc, char** argv) {
     } catch (const std::exception&) {  // std::stod / std::stoi: not a number
       std::cerr << "billiard_bench: " << arg << " takes numbers (a comma-separated list where it says LIST), got '"
                 << argv[k] << "'\n";
+      return 2;
+    }
+  }
+  for (const std::string& container : containers) {
+    if (container != "box" && container != "table" && container != "periodic" && container != "stadium" && container != "sinai") {
+      std::cerr << "billiard_bench: --containers takes box, table, periodic, stadium and sinai, got '" << container << "'\n";
       return 2;
     }
   }
@@ -312,7 +348,7 @@ int main(int argc, char** argv) {
     std::printf("%-9s %9s %11s %10s %10s %10s %10s %14s %12s\n", "container", "N", "restitution", "1st", "2nd",
                 "3rd", "4th", "collisions/s", "collisions");
     for (const std::string& container : containers) {
-      if (container == "periodic") continue;  // (no floor)
+      if (container != "box" && container != "table") continue;  // (periodic: no floor)
       for (double nd : ns) {
         for (double e : granular) granular_settling(container, static_cast<long>(nd), e, settle_time);
       }
@@ -328,51 +364,52 @@ int main(int argc, char** argv) {
                 r.density, r.gravity, r.rate, r.crossings, r.stale, r.bytes_per_disc, r.setup_seconds);
     std::fflush(stdout);
   };
-  for (const std::string& container : containers) {
-    for (double g : gravities) {
-      // A periodic box has no floor: under gravity the speeds grow without bound while the
-      // collision rate does not (all discs fall alike), so the run would time only crossings.
-      if (container == "periodic" && g != 0) continue;
-      // For each N, the densities' timed runs take turns (run r of every density, then run r + 1),
-      // so that a slow minute of a shared machine hits both sides of the low/high density ratio
-      // alike instead of one of them.
-      for (double nd : ns) {
-        const long n = static_cast<long>(nd);
-        struct Timed {
-          double density;
-          billiard::Simulation sim;
-          double setup;
-          std::vector<double> rates;
-          double crossings = 0, collisions = 0, stale = 0;
-        };
-        std::vector<Timed> systems;
+  for (double g : gravities) {
+    // For each N, the timed runs of every container and density take turns (run r of each, then
+    // run r + 1), so that a slow minute of a shared machine hits all the rows alike instead of
+    // one of them: their ratios are fair.
+    for (double nd : ns) {
+      const long n = static_cast<long>(nd);
+      struct Timed {
+        std::string container;
+        double density;
+        billiard::Simulation sim;
+        double setup;
+        std::vector<double> rates;
+        double crossings = 0, collisions = 0, stale = 0;
+      };
+      std::vector<Timed> systems;
+      for (const std::string& container : containers) {
+        // A periodic box has no floor: under gravity the speeds grow without bound while the
+        // collision rate does not (all discs fall alike), so the run would time only crossings.
+        if (container == "periodic" && g != 0) continue;
         for (double density : densities) {
           const auto t0 = Clock::now();
           billiard::Simulation sim = make_system(container, n, density, g != 0, cell, rng);
           sim.advance(static_cast<std::int64_t>(warmup * static_cast<double>(n)));
-          systems.push_back({density, std::move(sim), std::chrono::duration<double>(Clock::now() - t0).count(), {}});
+          systems.push_back({container, density, std::move(sim), std::chrono::duration<double>(Clock::now() - t0).count(), {}});
         }
-        for (int r = 0; r < repeats; ++r) {
-          for (Timed& t : systems) {
-            const double start = now_seconds();
-            const billiard::AdvanceResult result = t.sim.advance(static_cast<std::int64_t>(events));
-            const double seconds = now_seconds() - start;
-            t.rates.push_back(static_cast<double>(result.collisions) / seconds);
-            t.crossings += static_cast<double>(result.cell_crossings);
-            t.collisions += static_cast<double>(result.collisions);
-            t.stale += static_cast<double>(result.stale_events);
-            if (result.stuck) std::fprintf(stderr, "warning: run stuck\n");
-          }
-        }
+      }
+      for (int r = 0; r < repeats; ++r) {
         for (Timed& t : systems) {
-          const std::string problem = t.sim.validate();
-          if (!problem.empty()) std::fprintf(stderr, "validation failed: %s\n", problem.c_str());
-          Row row{"engine", container, n, t.density, g != 0 ? 1 : 0, median(t.rates),
-                  t.crossings / std::max(t.collisions, 1.0), t.stale / std::max(t.collisions, 1.0),
-                  t.sim.memory_bytes() / static_cast<double>(n), t.setup};
-          rows.push_back(row);
-          print(row);
+          const double start = now_seconds();
+          const billiard::AdvanceResult result = t.sim.advance(static_cast<std::int64_t>(events));
+          const double seconds = now_seconds() - start;
+          t.rates.push_back(static_cast<double>(result.collisions) / seconds);
+          t.crossings += static_cast<double>(result.cell_crossings);
+          t.collisions += static_cast<double>(result.collisions);
+          t.stale += static_cast<double>(result.stale_events);
+          if (result.stuck) std::fprintf(stderr, "warning: run stuck\n");
         }
+      }
+      for (Timed& t : systems) {
+        const std::string problem = t.sim.validate();
+        if (!problem.empty()) std::fprintf(stderr, "validation failed: %s\n", problem.c_str());
+        Row row{"engine", t.container, n, t.density, g != 0 ? 1 : 0, median(t.rates),
+                t.crossings / std::max(t.collisions, 1.0), t.stale / std::max(t.collisions, 1.0),
+                t.sim.memory_bytes() / static_cast<double>(n), t.setup};
+        rows.push_back(row);
+        print(row);
       }
     }
   }

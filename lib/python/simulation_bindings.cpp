@@ -19,6 +19,13 @@ namespace py = pybind11;
 namespace billiard::python {
 namespace {
 
+// A sequence of numbers (a list or a 1-D array).
+std::vector<double> to_values(const py::object& value, const char* name) {
+  const auto array = py::array_t<double, py::array::forcecast>::ensure(value);
+  if (!array || array.ndim() != 1) throw std::invalid_argument(std::string(name) + " must be a sequence of numbers, got " + short_repr(value));
+  return std::vector<double>(array.data(), array.data() + array.size());
+}
+
 py::dict state_dict(const Simulation& sim, const State& state) {
   py::dict d;
   d["time"] = state.time;
@@ -70,6 +77,7 @@ const char* wall_kind(WallKind kind) {
     case WallKind::Segment: return "segment";
     case WallKind::Point: return "point";
     case WallKind::Circle: return "circle";
+    case WallKind::Arc: return "arc";
   }
   return "unknown";
 }
@@ -85,7 +93,8 @@ void bind_simulation(py::module_& m) {
   py::class_<Simulation> sim(m, "Simulation", R"(Event-driven simulation of hard discs (the library in lib/).
 
 Set up a container (set_circular_table, set_periodic_box, add_box, add_segment,
-add_polygon), optionally gravity and restitution, add discs, then advance(). Setup is fixed
+add_polygon, add_arc, add_disc_obstacle, add_stadium, add_sinai_billiard, add_mushroom,
+add_union_of_circles), optionally gravity and restitution, add discs, then advance(). Setup is fixed
 after the first advance(); restitution and the event log can still change. Units are yours.
 States are dicts of numpy arrays: time, position (n, 2), velocity (n, 2), spin (n,),
 mass (n,), radius (n,), inertia (n,). Bad input raises ValueError naming the disc and value.)");
@@ -108,6 +117,43 @@ mass (n,), radius (n,), inertia (n,). Bad input raises ValueError naming the dis
       .def(
           "add_polygon", [](Simulation& s, const py::object& vertices) { s.add_polygon(to_points(vertices, "vertices")); },
           py::arg("vertices"), "A closed polygon, vertices (k, 2) in order: one wall per side.")
+      .def(
+          "add_arc",
+          [](Simulation& s, const py::object& centre, double radius, double start_angle, double end_angle) {
+            return s.add_arc(to_vec2(centre, "centre"), radius, start_angle, end_angle);
+          },
+          py::arg("centre"), py::arg("radius"), py::arg("start_angle"), py::arg("end_angle"),
+          "A circular arc wall (both faces, and its end points), counter-clockwise from start_angle to end_angle\n"
+          "(radians, 0 < end_angle - start_angle <= 2 pi); returns its wall index.")
+      .def(
+          "add_disc_obstacle", [](Simulation& s, const py::object& centre, double radius) { s.add_disc_obstacle(to_vec2(centre, "centre"), radius); },
+          py::arg("centre"), py::arg("radius"), "A circular obstacle that discs stay outside of (inside a table, box or outline).")
+      .def(
+          "add_stadium", [](Simulation& s, const py::object& centre, double radius, double length) { s.add_stadium(to_vec2(centre, "centre"), radius, length); },
+          py::arg("centre"), py::arg("radius"), py::arg("length"),
+          "A stadium: half circles of radius whose centres are length apart (horizontally, about centre),\n"
+          "joined by straight sides; discs live inside it.")
+      .def(
+          "add_sinai_billiard",
+          [](Simulation& s, const py::object& lower, const py::object& upper, double obstacle_radius) {
+            s.add_sinai_billiard(to_vec2(lower, "lower"), to_vec2(upper, "upper"), obstacle_radius);
+          },
+          py::arg("lower"), py::arg("upper"), py::arg("obstacle_radius"), "The box [lower, upper] with a disc obstacle in its middle.")
+      .def(
+          "add_mushroom",
+          [](Simulation& s, const py::object& centre, double cap_radius, double stem_width, double stem_height) {
+            s.add_mushroom(to_vec2(centre, "centre"), cap_radius, stem_width, stem_height);
+          },
+          py::arg("centre"), py::arg("cap_radius"), py::arg("stem_width"), py::arg("stem_height"),
+          "A mushroom: a half-disc cap above centre on a stem_width x stem_height stem below it (stem_width < 2 cap_radius).")
+      .def(
+          "add_union_of_circles",
+          [](Simulation& s, const py::object& centres, const py::object& radii) {
+            s.add_union_of_circles(to_points(centres, "centres"), to_values(radii, "radii"));
+          },
+          py::arg("centres"), py::arg("radii"),
+          "The union of circles (centres (n, 2), radii (n,)): discs live inside it; its boundary arcs and their\n"
+          "meeting points are the walls.")
       .def(
           "set_gravity", [](Simulation& s, const py::object& g) { s.set_gravity(to_vec2(g, "g")); }, py::arg("g"),
           "Uniform gravity (gx, gy); default (0, 0).")
@@ -248,11 +294,14 @@ mass (n,), radius (n,), inertia (n,). Bad input raises ValueError naming the dis
               d["a"] = py::make_tuple(w.a.x(), w.a.y());
               d["b"] = py::make_tuple(w.b.x(), w.b.y());
               d["radius"] = w.radius;
+              d["start_angle"] = w.start_angle;
+              d["sweep"] = w.sweep;
               out.append(d);
             }
             return out;
           },
-          "The walls as dicts: kind ('segment', 'point', 'circle'), a, b, radius.")
+          "The walls as dicts: kind ('segment', 'point', 'circle', 'arc'), a, b, radius, start_angle, sweep\n"
+          "(an arc: centre a, from start_angle counter-clockwise through sweep radians).")
       .def_property_readonly("gravity", [](const Simulation& s) { return py::make_tuple(s.gravity().x(), s.gravity().y()); },
                              "Uniform gravity (gx, gy).")
       .def_property_readonly("period", [](const Simulation& s) { return py::make_tuple(s.period().x(), s.period().y()); },

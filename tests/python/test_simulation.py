@@ -121,7 +121,7 @@ def test_walls_list_a_box_as_segments_and_corner_points():
     sim.add_box((0.0, 0.0), (4.0, 3.0))
     index = sim.add_segment((2.0, 0.0), (2.0, 1.0))
     walls = sim.walls
-    assert all(set(w) == {"kind", "a", "b", "radius"} for w in walls)
+    assert all(set(w) == {"kind", "a", "b", "radius", "start_angle", "sweep"} for w in walls)
     segments = [w for w in walls if w["kind"] == "segment"]
     assert len(segments) == 5
     assert walls[index]["kind"] == "segment"

@@ -4,7 +4,8 @@ Four plain functions, each drawing into an ``Axes`` the caller owns (except ``an
 writes a file):
 
 - ``draw_table(ax, positions, radii, ...)``: the discs as circles, the circular table, a
-  rectangular box or straight walls, and optionally the velocities as arrows.
+  rectangular box, straight walls or circular arcs, and optionally the velocities as arrows
+  (``simulation_walls(sim)`` gives the walls of a ``billiard.Simulation`` in that form).
 - ``animate(states, path, ...)``: a replay of many states as a GIF (Pillow) or an MP4 (ffmpeg).
 - ``plot_energy(ax, events, mean_square, ...)``: the mean squared velocity <v^2> over the
   events, or its relative drift |<v^2>/<v^2>_0 - 1| on a log scale.
@@ -31,9 +32,9 @@ import numpy as np
 import matplotlib
 import matplotlib.colors
 from matplotlib.collections import LineCollection
-from matplotlib.patches import Circle, Rectangle
+from matplotlib.patches import Arc, Circle, Rectangle
 
-__all__ = ["draw_table", "animate", "plot_energy", "speed_histogram", "maxwell_boltzmann_2d"]
+__all__ = ["draw_table", "animate", "plot_energy", "speed_histogram", "maxwell_boltzmann_2d", "simulation_walls"]
 
 
 # --------------------------------------------------------------------------------------------
@@ -108,8 +109,45 @@ def _box_corners(box):
     raise ValueError(f"box must be (width, height) or (xmin, ymin, xmax, ymax), got {box}")
 
 
-def _limits(positions_list, radii, table_radius, box, walls):
-    """Axis limits (xmin, xmax, ymin, ymax) showing the table, box, walls and every disc."""
+def _arc_rows(arcs):
+    """Arcs as an (m, 5) array of rows (cx, cy, radius, start_angle, end_angle)."""
+    rows = np.asarray(arcs, dtype=float).reshape(-1, 5)
+    if np.any(rows[:, 2] <= 0) or np.any(rows[:, 4] <= rows[:, 3]):
+        raise ValueError("arcs must be rows (cx, cy, radius, start_angle, end_angle) with radius > 0 and "
+                         "end_angle > start_angle (radians, counter-clockwise)")
+    return rows
+
+
+def _arc_points(arcs):
+    """Points along every arc (64 per arc), for the axis limits."""
+    rows = _arc_rows(arcs)
+    t = np.linspace(0.0, 1.0, 64)
+    angles = rows[:, 3:4] + (rows[:, 4:5] - rows[:, 3:4]) * t
+    x = rows[:, 0:1] + rows[:, 2:3] * np.cos(angles)
+    y = rows[:, 1:2] + rows[:, 2:3] * np.sin(angles)
+    return np.stack([x.ravel(), y.ravel()], axis=1)
+
+
+def simulation_walls(sim):
+    """The walls of a billiard.Simulation as keyword arguments of draw_table and animate:
+    ``walls`` (its segments), ``arcs`` (its arcs) and ``table_radius`` (when it has a table).
+    Point walls (end points, corners) are not drawn. Usage:
+    ``draw_table(ax, sim.current_state, **simulation_walls(sim))``."""
+    segments, arcs = [], []
+    for wall in sim.walls:
+        if wall["kind"] == "segment":
+            segments.append([wall["a"], wall["b"]])
+        elif wall["kind"] == "arc":
+            start = wall["start_angle"]
+            arcs.append([wall["a"][0], wall["a"][1], wall["radius"], start, start + wall["sweep"]])
+    out = {"walls": segments, "arcs": arcs}
+    if sim.table_radius > 0:
+        out["table_radius"] = sim.table_radius
+    return out
+
+
+def _limits(positions_list, radii, table_radius, box, walls, arcs=None):
+    """Axis limits (xmin, xmax, ymin, ymax) showing the table, box, walls, arcs and every disc."""
     lows, highs = [], []
     if table_radius is not None:
         lows.append([-table_radius, -table_radius])
@@ -120,6 +158,10 @@ def _limits(positions_list, radii, table_radius, box, walls):
         highs.append([x1, y1])
     if walls is not None and len(walls):
         points = np.asarray(walls, dtype=float).reshape(-1, 2)
+        lows.append(points.min(axis=0))
+        highs.append(points.max(axis=0))
+    if arcs is not None and len(arcs):
+        points = _arc_points(arcs)
         lows.append(points.min(axis=0))
         highs.append(points.max(axis=0))
     for positions in positions_list:
@@ -138,7 +180,7 @@ def _limits(positions_list, radii, table_radius, box, walls):
 # --------------------------------------------------------------------------------------------
 
 def draw_table(ax, positions, radii=None, table_radius=None, box=None, walls=None, velocities=None,
-               colors=None, arrow_scale=1.0):
+               colors=None, arrow_scale=1.0, arcs=None):
     """Draws one state of the billiard into ``ax``: every disc as a circle patch.
 
     ax: a matplotlib Axes; its aspect is set equal (circles look round) and its limits fit the
@@ -150,6 +192,8 @@ def draw_table(ax, positions, radii=None, table_radius=None, box=None, walls=Non
     box: a rectangular (e.g. periodic) box, (width, height) from the origin or
         (xmin, ymin, xmax, ymax), drawn dashed.
     walls: straight walls as segments [[(x0, y0), (x1, y1)], ...], drawn as thick lines.
+    arcs: circular arc walls as rows (cx, cy, radius, start_angle, end_angle), angles in radians
+        counter-clockwise, drawn as thick lines (matplotlib.patches.Arc).
     velocities: (n, 2) array; when given, each disc gets an arrow v * arrow_scale (in time
         units: where the centre would be after arrow_scale time units).
     colors: None, one matplotlib colour, one colour per disc, or n numbers (mapped with the
@@ -171,6 +215,10 @@ def draw_table(ax, positions, radii=None, table_radius=None, box=None, walls=Non
     if walls is not None and len(walls):
         segments = np.asarray(walls, dtype=float).reshape(-1, 2, 2)
         ax.add_collection(LineCollection(segments, colors="black", linewidths=2.5, zorder=1))
+    if arcs is not None and len(arcs):
+        for cx, cy, radius, start, end in _arc_rows(arcs):
+            ax.add_patch(Arc((cx, cy), 2 * radius, 2 * radius, theta1=np.degrees(start), theta2=np.degrees(end),
+                             edgecolor="black", linewidth=2.5, zorder=1))
     discs = []
     for centre, radius, color in zip(positions, radii, _disc_colors(colors, n)):
         disc = Circle(tuple(centre), radius, facecolor=color, edgecolor="black", linewidth=0.5, alpha=0.85,
@@ -183,7 +231,7 @@ def draw_table(ax, positions, radii=None, table_radius=None, box=None, walls=Non
     if velocities is not None and n:
         ax.quiver(positions[:, 0], positions[:, 1], velocities[:, 0] * arrow_scale, velocities[:, 1] * arrow_scale,
                   angles="xy", scale_units="xy", scale=1.0, width=0.004, color="crimson", zorder=3)
-    x0, x1, y0, y1 = _limits([positions], radii, table_radius, box, walls)
+    x0, x1, y0, y1 = _limits([positions], radii, table_radius, box, walls, arcs)
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
     return discs
@@ -194,7 +242,7 @@ def draw_table(ax, positions, radii=None, table_radius=None, box=None, walls=Non
 # --------------------------------------------------------------------------------------------
 
 def animate(states, path, fps=20, radii=None, table_radius=None, box=None, walls=None, colors=None,
-            size=4.0, dpi=100, title=None):
+            size=4.0, dpi=100, title=None, arcs=None):
     """Writes a replay of ``states`` (one frame each) to ``path``, a GIF or an MP4 file.
 
     states: a sequence of (n, 2) position arrays, or of state dicts (see draw_table); the
@@ -203,7 +251,7 @@ def animate(states, path, fps=20, radii=None, table_radius=None, box=None, walls
         Pillow from Debian's python3-pil) or '.mp4' (FFMpegWriter, H.264, needs the ffmpeg
         command from Debian's ffmpeg package). Other suffixes raise ValueError.
     fps: frames per second of the file.
-    radii, table_radius, box, walls, colors: as in draw_table (radii may come from the states).
+    radii, table_radius, box, walls, arcs, colors: as in draw_table (radii may come from the states).
     size, dpi: the frame is size x size inches at dpi dots per inch (400 x 400 pixels by
         default; MP4 frames need an even number of pixels, which these give).
     title: text above the frames; '{frame}' in it is replaced by the frame number.
@@ -240,8 +288,8 @@ def animate(states, path, fps=20, radii=None, table_radius=None, box=None, walls
     ax = figure.add_axes([0.02, 0.02, 0.96, 0.9 if title else 0.96])
     ax.set_axis_off()
     discs = draw_table(ax, frames[0][0], radii_first, table_radius=table_radius, box=box, walls=walls,
-                       colors=colors)
-    x0, x1, y0, y1 = _limits([p for p, _ in frames], radii_first, table_radius, box, walls)
+                       colors=colors, arcs=arcs)
+    x0, x1, y0, y1 = _limits([p for p, _ in frames], radii_first, table_radius, box, walls, arcs)
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
     heading = ax.set_title("") if title else None

@@ -23,10 +23,17 @@ std::string wall_overlap_message(const std::string& who, const Vec2& p, int wall
                   " < radius ", radius);
 }
 
-bool Container::inside_outlines(const std::vector<Points>& outlines, const Vec2& p) {
-  int inside = 0;
-  for (const Points& outline : outlines) inside += inside_polygon(outline, p) ? 1 : 0;
-  return outlines.empty() || inside % 2 == 1;
+bool Container::inside_outlines(const std::vector<Outline>& outlines, const Vec2& p) {
+  int inside = 0, enclosing = 0;
+  for (const Outline& outline : outlines) {
+    const bool in = inside_pieces(outline.pieces, p);
+    if (outline.hole && in) return false;
+    if (!outline.hole) {
+      ++enclosing;
+      inside += in ? 1 : 0;
+    }
+  }
+  return enclosing == 0 || inside % 2 == 1;
 }
 
 std::string Container::outside(const Vec2& p, double radius, double slack) const {
@@ -67,12 +74,18 @@ void Container::bounds(Vec2& lower, Vec2& upper) const {
     lower = Vec2::Constant(-table_radius);
     upper = Vec2::Constant(table_radius);
   }
-  if (outlines.empty()) return;
+  if (!closed() || (has_table && outlines.empty())) return;
   Vec2 outline_lower = Vec2::Constant(kNever), outline_upper = Vec2::Constant(-kNever);
-  for (const Points& outline : outlines) {
-    outline_lower = outline_lower.cwiseMin(outline.colwise().minCoeff().transpose());
-    outline_upper = outline_upper.cwiseMax(outline.colwise().maxCoeff().transpose());
+  for (const Outline& outline : outlines) {
+    if (outline.hole) continue;
+    for (const WallShape& piece : outline.pieces) {
+      Vec2 lo = piece.a.cwiseMin(piece.b), hi = piece.a.cwiseMax(piece.b);
+      if (piece.kind == WallKind::Arc) arc_bounds(piece, lo, hi);
+      outline_lower = outline_lower.cwiseMin(lo);
+      outline_upper = outline_upper.cwiseMax(hi);
+    }
   }
+  if (outline_lower.x() > outline_upper.x()) return;  // (only holes, inside a table)
   lower = lower.cwiseMax(outline_lower);
   upper = upper.cwiseMin(outline_upper);
 }
@@ -81,6 +94,7 @@ double Container::extent() const {
   double largest = has_table ? table_radius : 0.0;
   if (periodic) largest = std::max(largest, period.maxCoeff());
   for (const WallShape& wall : walls) {
+    if (wall.kind == WallKind::Arc) largest = std::max(largest, wall.a.cwiseAbs().maxCoeff() + wall.radius);
     if (wall.kind != WallKind::Circle) largest = std::max({largest, wall.a.cwiseAbs().maxCoeff(), wall.b.cwiseAbs().maxCoeff()});
   }
   return largest;

@@ -1,5 +1,6 @@
-// The space the discs live in: a circular table, a periodic box, or closed outlines (boxes and
-// polygons) with their walls, plus any free segments. Its geometry is asked the same questions by
+// The space the discs live in: a circular table, a periodic box, or closed outlines (boxes,
+// polygons and curved outlines of segments and arcs) with their walls, plus any free segments
+// and arcs. Its geometry is asked the same questions by
 // the set-up checks, the event loop, validation and replay: where a periodic position wraps to,
 // the nearest periodic image, whether a disc is inside, how far it is from a wall, and which
 // region the discs can reach. Each answer is written once, here.
@@ -26,16 +27,28 @@ double wall_clearance(const WallShape& wall, const Vec2& p, double radius);
 // The message for a disc overlapping a wall, the same at set-up and in validation.
 std::string wall_overlap_message(const std::string& who, const Vec2& p, int wall, double clearance, double radius);
 
+// A closed outline for the inside test: its segments and arcs (in any order). A hole (a disc
+// obstacle) keeps discs out whatever the other outlines say.
+struct Outline {
+  std::vector<WallShape> pieces;
+  bool hole = false;
+};
+
 struct Container {
-  std::vector<WallShape> walls;       // the table's circle, segments and their end points
-  std::vector<Points> outlines;  // closed boxes and polygons (vertices in order), for contains
+  std::vector<WallShape> walls;   // the table's circle, segments, arcs and their end points
+  std::vector<Outline> outlines;  // closed boxes, polygons, curved outlines and holes, for contains
   bool has_table = false;
   double table_radius = 0.0;
   bool periodic = false;
   Vec2 period = Vec2::Zero();
 
-  // A region that holds discs has been set (table, periodic box, or a box or polygon).
-  bool closed() const { return has_table || periodic || !outlines.empty(); }
+  // A region that holds discs has been set (table, periodic box, or a box, polygon or curved
+  // outline; holes alone enclose nothing).
+  bool closed() const {
+    bool outline = false;
+    for (const Outline& o : outlines) outline = outline || !o.hole;
+    return has_table || periodic || outline;
+  }
 
   // p wrapped into the periodic box (p itself without one).
   Vec2 wrap(const Vec2& p) const { return periodic ? wrap_into_period(p, period) : p; }
@@ -49,8 +62,9 @@ struct Container {
     return dr;
   }
 
-  // Even-odd rule: p lies inside an odd number of `outlines` (true when there are none).
-  static bool inside_outlines(const std::vector<Points>& outlines, const Vec2& p);
+  // Even-odd rule: p lies inside an odd number of the `outlines` that are not holes (true when
+  // there are none), and inside no hole.
+  static bool inside_outlines(const std::vector<Outline>& outlines, const Vec2& p);
   // Why a disc of `radius` centred at p is not inside the container by more than `slack` (the
   // table, the periodic box, the outlines), as the end of a sentence after "disc i"; "" if it is.
   std::string outside(const Vec2& p, double radius, double slack) const;

@@ -113,6 +113,8 @@ double Simulation::Engine::wall_time(const WallShape& wall, const Vec2& r, const
       return disc_point_time(r, v, gravity, wall.a, fixed_reach(radius));
     case WallKind::Circle:
       return disc_in_circle_time(r - wall.a, v, gravity, wall.radius - fixed_reach(radius));
+    case WallKind::Arc:
+      return disc_arc_time(r - wall.a, v, gravity, wall.radius, wall.start_angle, wall.sweep, fixed_reach(radius));
   }
   return kNever;
 }

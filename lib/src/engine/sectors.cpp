@@ -130,7 +130,11 @@ void assign_walls(Grid& grid, const std::vector<WallShape>& walls, double reach)
     const WallShape& wall = walls[k];
     // Only the cells of the wall's bounding box grown by `reach` can be near it.
     Vec2 box_lo, box_hi;
-    if (wall.kind == WallKind::Circle) {
+    if (wall.kind == WallKind::Arc) {
+      arc_bounds(wall, box_lo, box_hi);
+      box_lo -= Vec2::Constant(reach);
+      box_hi += Vec2::Constant(reach);
+    } else if (wall.kind == WallKind::Circle) {
       box_lo = wall.a - Vec2::Constant(wall.radius + reach);
       box_hi = wall.a + Vec2::Constant(wall.radius + reach);
     } else {
@@ -151,6 +155,9 @@ void assign_walls(Grid& grid, const std::vector<WallShape>& walls, double reach)
             break;
           case WallKind::Point:
             near = point_rectangle_distance(wall.a, lo, hi) <= reach;
+            break;
+          case WallKind::Arc:
+            near = arc_rectangle_distance(wall, lo, hi) <= reach;
             break;
           case WallKind::Circle: {
             // A disc of radius <= reach centred in the cell can touch the rim only if the cell

@@ -63,7 +63,74 @@ std::int64_t hash_column(double x, double cell) {
   return static_cast<std::int64_t>(std::clamp(std::floor(x / cell), -1e15, 1e15));
 }
 
+
+// The largest coordinate of a wall (for the radius-to-coordinates check).
+double wall_extent(const WallShape& wall) {
+  if (wall.kind == WallKind::Arc || wall.kind == WallKind::Circle) return wall.a.cwiseAbs().maxCoeff() + wall.radius;
+  return std::max(wall.a.cwiseAbs().maxCoeff(), wall.b.cwiseAbs().maxCoeff());
+}
+
+// A point wall at p, unless one is already within `merge` of it (end points shared by two
+// segments or arcs are one wall).
+void add_point_wall(Container& container, const Vec2& p, double merge = 0.0) {
+  for (const WallShape& w : container.walls) {
+    if (w.kind == WallKind::Point && (w.a - p).norm() <= merge) return;
+  }
+  container.walls.push_back(WallShape{WallKind::Point, p, p, 0.0});
+}
+
+// A segment or arc wall, with its end points as point walls (none for a full circle).
+void add_wall_with_ends(Container& container, const WallShape& wall, double merge = 0.0) {
+  container.walls.push_back(wall);
+  if (wall.kind == WallKind::Segment) {
+    add_point_wall(container, wall.a, merge);
+    add_point_wall(container, wall.b, merge);
+  } else if (wall.kind == WallKind::Arc && wall.sweep < 2 * M_PI) {
+    add_point_wall(container, arc_point(wall, wall.start_angle), merge);
+    add_point_wall(container, arc_point(wall, wall.start_angle + wall.sweep), merge);
+  }
+}
+
+// An arc from the user's numbers: centre and radius bounded, angles finite and bounded,
+// 0 < end - start <= 2 pi. `what` names the arguments in messages ("add_arc: ").
+WallShape checked_arc(const std::string& what, const Vec2& centre, double radius, double start_angle, double end_angle) {
+  if (!bounded(centre)) refuse(what + "centre " + kBounded + ", got " + vec(centre));
+  if (!(radius > 0) || !bounded(radius)) refuse(what + "radius must be positive, finite and at most 1e50, got " + number(radius));
+  if (!std::isfinite(start_angle) || std::abs(start_angle) > 1e6) refuse(what + "start_angle must be finite and at most 1e6 in magnitude (radians), got " + number(start_angle));
+  if (!std::isfinite(end_angle) || std::abs(end_angle) > 1e6) refuse(what + "end_angle must be finite and at most 1e6 in magnitude (radians), got " + number(end_angle));
+  const double sweep = end_angle - start_angle;
+  if (!(sweep > 0 && sweep <= 2 * M_PI)) {
+    refuse(what + "end_angle - start_angle must be in (0, 2 pi] (the arc runs counter-clockwise from start_angle to end_angle), got " + number(sweep));
+  }
+  WallShape arc{WallKind::Arc, centre, Vec2::Zero(), radius};
+  arc.start_angle = start_angle;
+  arc.sweep = std::min(sweep, 2 * M_PI);
+  return arc;
+}
+
 }  // namespace
+
+// A closed outline (or a hole) of segments and arcs: all or nothing, every disc must stay inside
+// the container with it and clear of its pieces. `merge`: end points closer than this are one.
+static void add_outline(Simulation::Engine& e, const char* call, std::vector<WallShape> pieces, bool hole, double merge = 0.0) {
+  if (e.container.periodic) refuse(std::string(call) + ": walls inside a periodic box are not supported");
+  double extent = 0;
+  for (const WallShape& piece : pieces) extent = std::max(extent, wall_extent(piece));
+  check_extent(e, extent, call);
+  std::vector<Outline> outlines = e.container.outlines;
+  outlines.push_back(Outline{pieces, hole});
+  for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
+    const Vec2& r = e.hot[i].position;
+    if (!Container::inside_outlines(outlines, r)) refuse(std::string(call) + ": disc " + std::to_string(i) + " at " + vec(r) + " would be outside the walls");
+    for (int k = 0; k < static_cast<int>(pieces.size()); ++k) {
+      if (wall_clearance(pieces[k], r, e.hot[i].radius) < 0) {
+        refuse(std::string(call) + ": " + (pieces[k].kind == WallKind::Arc ? "arc " : "side ") + std::to_string(k) + " overlaps disc " + std::to_string(i) + " at " + vec(r));
+      }
+    }
+  }
+  for (const WallShape& piece : pieces) add_wall_with_ends(e.container, piece, merge);
+  e.container.outlines = std::move(outlines);
+}
 
 // ---------------------------------------------------------------------------------------------
 // Setup helpers
@@ -265,13 +332,163 @@ int Simulation::add_segment(const Vec2& a, const Vec2& b) {
     }
   }
   const int index = static_cast<int>(e.container.walls.size());
-  e.container.walls.push_back(segment);
-  for (const Vec2& p : {a, b}) {
-    bool known = false;
-    for (const WallShape& w : e.container.walls) known = known || (w.kind == WallKind::Point && w.a == p);
-    if (!known) e.container.walls.push_back(WallShape{WallKind::Point, p, p, 0.0});
-  }
+  add_wall_with_ends(e.container, segment);
   return index;
+}
+
+int Simulation::add_arc(const Vec2& centre, double radius, double start_angle, double end_angle) {
+  Engine& e = *engine_;
+  require_setup(e, "add_arc");
+  const WallShape arc = checked_arc("add_arc: ", centre, radius, start_angle, end_angle);
+  if (e.container.periodic) refuse("add_arc: walls inside a periodic box are not supported");
+  check_extent(e, wall_extent(arc), "add_arc");
+  for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
+    if (wall_clearance(arc, e.hot[i].position, e.hot[i].radius) < 0) {
+      refuse("add_arc: the arc overlaps disc " + std::to_string(i) + " at " + vec(e.hot[i].position));
+    }
+  }
+  const int index = static_cast<int>(e.container.walls.size());
+  add_wall_with_ends(e.container, arc);
+  return index;
+}
+
+void Simulation::add_disc_obstacle(const Vec2& centre, double radius) {
+  Engine& e = *engine_;
+  require_setup(e, "add_disc_obstacle");
+  const WallShape circle = checked_arc("add_disc_obstacle: ", centre, radius, 0.0, 2 * M_PI);
+  add_outline(e, "add_disc_obstacle", {circle}, true);
+}
+
+void Simulation::add_stadium(const Vec2& centre, double radius, double length) {
+  Engine& e = *engine_;
+  require_setup(e, "add_stadium");
+  if (!bounded(centre)) refuse(std::string("add_stadium: centre ") + kBounded + ", got " + vec(centre));
+  if (!(radius > 0) || !bounded(radius)) refuse("add_stadium: radius must be positive, finite and at most 1e50, got " + number(radius));
+  if (!(length > 0) || !bounded(length)) refuse("add_stadium: length must be positive, finite and at most 1e50 (0 is a circle: use set_circular_table), got " + number(length));
+  const Vec2 half(0.5 * length, 0.0);
+  if (!((centre + half - (centre - half)).squaredNorm() > 0)) refuse("add_stadium: length " + number(length) + " is too small for the centre " + vec(centre));
+  WallShape right = checked_arc("add_stadium: ", centre + half, radius, -M_PI / 2, M_PI / 2);
+  WallShape left = checked_arc("add_stadium: ", centre - half, radius, M_PI / 2, 3 * M_PI / 2);
+  // The straight sides join the arcs' end points exactly.
+  const WallShape top{WallKind::Segment, arc_point(right, M_PI / 2), arc_point(left, M_PI / 2), 0.0};
+  const WallShape bottom{WallKind::Segment, arc_point(left, 3 * M_PI / 2), arc_point(right, -M_PI / 2), 0.0};
+  add_outline(e, "add_stadium", {right, top, left, bottom}, false);
+}
+
+void Simulation::add_sinai_billiard(const Vec2& lower, const Vec2& upper, double obstacle_radius) {
+  Engine& e = *engine_;
+  require_setup(e, "add_sinai_billiard");
+  if (!bounded(lower)) refuse(std::string("add_sinai_billiard: lower ") + kBounded + ", got " + vec(lower));
+  if (!bounded(upper)) refuse(std::string("add_sinai_billiard: upper ") + kBounded + ", got " + vec(upper));
+  const Vec2 size = upper - lower;
+  if (!(size.x() > 0 && size.y() > 0)) refuse("add_sinai_billiard: upper " + vec(upper) + " must exceed lower " + vec(lower) + " in x and y");
+  if (!(obstacle_radius > 0) || !(2 * obstacle_radius < size.minCoeff())) {
+    refuse("add_sinai_billiard: obstacle_radius must be positive and below half the box's smaller side " + number(0.5 * size.minCoeff()) + ", got " + number(obstacle_radius));
+  }
+  const Engine saved = e;  // all or nothing
+  try {
+    add_box(lower, upper);
+    add_disc_obstacle(0.5 * (lower + upper), obstacle_radius);
+  } catch (...) {
+    e = saved;
+    throw;
+  }
+}
+
+void Simulation::add_mushroom(const Vec2& centre, double cap_radius, double stem_width, double stem_height) {
+  Engine& e = *engine_;
+  require_setup(e, "add_mushroom");
+  if (!bounded(centre)) refuse(std::string("add_mushroom: centre ") + kBounded + ", got " + vec(centre));
+  if (!(cap_radius > 0) || !bounded(cap_radius)) refuse("add_mushroom: cap_radius must be positive, finite and at most 1e50, got " + number(cap_radius));
+  if (!(stem_width > 0) || !(stem_width < 2 * cap_radius)) refuse("add_mushroom: stem_width must be positive and below 2 cap_radius = " + number(2 * cap_radius) + ", got " + number(stem_width));
+  if (!(stem_height > 0) || !bounded(stem_height)) refuse("add_mushroom: stem_height must be positive, finite and at most 1e50, got " + number(stem_height));
+  const WallShape cap = checked_arc("add_mushroom: ", centre, cap_radius, 0.0, M_PI);
+  const double w = 0.5 * stem_width;
+  const Vec2 stem_top_right = centre + Vec2(w, 0), stem_top_left = centre + Vec2(-w, 0);
+  const Vec2 stem_bottom_right = centre + Vec2(w, -stem_height), stem_bottom_left = centre + Vec2(-w, -stem_height);
+  if (!((stem_top_right - stem_top_left).squaredNorm() > 0 && (stem_top_right - stem_bottom_right).squaredNorm() > 0 &&
+        (arc_point(cap, 0.0) - stem_top_right).squaredNorm() > 0 && (arc_point(cap, M_PI) - stem_top_left).squaredNorm() > 0)) {
+    refuse("add_mushroom: the stem " + number(stem_width) + " x " + number(stem_height) + " and the cap are too small for the centre " + vec(centre));
+  }
+  auto segment = [](const Vec2& a, const Vec2& b) { return WallShape{WallKind::Segment, a, b, 0.0}; };
+  add_outline(e, "add_mushroom",
+              {segment(stem_bottom_right, stem_top_right), segment(stem_top_right, arc_point(cap, 0.0)), cap,
+               segment(arc_point(cap, M_PI), stem_top_left), segment(stem_top_left, stem_bottom_left),
+               segment(stem_bottom_left, stem_bottom_right)},
+              false);
+}
+
+void Simulation::add_union_of_circles(const Points& centres, const std::vector<double>& radii) {
+  Engine& e = *engine_;
+  require_setup(e, "add_union_of_circles");
+  const int n = static_cast<int>(centres.rows());
+  if (n < 1) refuse("add_union_of_circles: centres needs at least 1 row, got 0");
+  if (static_cast<int>(radii.size()) != n) {
+    refuse("add_union_of_circles: radii has " + std::to_string(radii.size()) + " entries, centres " + std::to_string(n) + " rows");
+  }
+  std::vector<WallShape> circles;
+  for (int i = 0; i < n; ++i) {
+    circles.push_back(checked_arc("add_union_of_circles: circle " + std::to_string(i) + ": ", centres.row(i).transpose(), radii[i], 0.0, 2 * M_PI));
+  }
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < i; ++j) {
+      if (circles[i].a == circles[j].a && circles[i].radius == circles[j].radius) {
+        refuse("add_union_of_circles: circles " + std::to_string(j) + " and " + std::to_string(i) + " coincide");
+      }
+    }
+  }
+  // The boundary: for each circle, the angles it spends inside another circle are covered;
+  // what is left are the boundary arcs.
+  std::vector<WallShape> arcs;
+  for (int i = 0; i < n; ++i) {
+    const WallShape& ci = circles[i];
+    bool buried = false;
+    std::vector<std::pair<double, double>> covered;  // angle intervals [from, to], from in [0, 2 pi)
+    for (int j = 0; j < n && !buried; ++j) {
+      if (j == i) continue;
+      const WallShape& cj = circles[j];
+      const Vec2 d = cj.a - ci.a;
+      const double distance = d.norm();
+      if (distance + ci.radius <= cj.radius) buried = true;                  // inside circle j
+      if (buried || distance >= ci.radius + cj.radius || distance + cj.radius <= ci.radius) continue;  // apart, or j inside
+      // Circle i is inside circle j for angles within `half` of the direction to j's centre
+      // (law of cosines at the intersection points).
+      const double half = std::acos(std::clamp((distance * distance + ci.radius * ci.radius - cj.radius * cj.radius) / (2 * distance * ci.radius), -1.0, 1.0));
+      double from = std::atan2(d.y(), d.x()) - half;
+      from -= 2 * M_PI * std::floor(from / (2 * M_PI));
+      covered.emplace_back(from, from + 2 * half);
+    }
+    if (buried) continue;
+    if (covered.empty()) {
+      arcs.push_back(ci);
+      continue;
+    }
+    // Free angles: sort the covered intervals and walk once around the circle from the start of
+    // the first one.
+    std::sort(covered.begin(), covered.end());
+    const double origin = covered.front().first;
+    double reach = origin;  // covered up to here, counting the intervals that wrap past 2 pi
+    for (const auto& interval : covered) reach = std::max(reach, interval.second - 2 * M_PI);
+    for (const auto& [from, to] : covered) {
+      if (from > reach) {
+        WallShape arc = ci;
+        arc.start_angle = reach;
+        arc.sweep = from - reach;
+        arcs.push_back(arc);
+      }
+      reach = std::max(reach, to);
+    }
+    if (reach < origin + 2 * M_PI) {
+      WallShape arc = ci;
+      arc.start_angle = reach;
+      arc.sweep = origin + 2 * M_PI - reach;
+      arcs.push_back(arc);
+    }
+  }
+  // Where two boundary arcs meet, their end points agree to rounding: one point wall.
+  double extent = 0;
+  for (const WallShape& c : circles) extent = std::max(extent, wall_extent(c));
+  add_outline(e, "add_union_of_circles", std::move(arcs), false, 1e-12 * extent);
 }
 
 void Simulation::add_polygon(const Points& vertices) {
@@ -290,19 +507,9 @@ void Simulation::add_polygon(const Points& vertices) {
   }
   if (e.container.periodic) refuse("add_polygon: walls inside a periodic box are not supported");
   check_extent(e, vertices.cwiseAbs().maxCoeff(), "add_polygon");
-  // All or nothing: check every disc against the new sides and the new inside test first.
-  std::vector<Points> outlines = e.container.outlines;
-  outlines.push_back(vertices);
-  for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
-    const Vec2& r = e.hot[i].position;
-    if (!Container::inside_outlines(outlines, r)) refuse("add_polygon: disc " + std::to_string(i) + " at " + vec(r) + " would be outside the walls");
-    for (int k = 0; k < n; ++k) {
-      const double distance = distance_to_segment(r, vertices.row(k).transpose(), vertices.row((k + 1) % n).transpose());
-      if (distance < e.hot[i].radius) refuse("add_polygon: side " + std::to_string(k) + " overlaps disc " + std::to_string(i) + " at " + vec(r));
-    }
-  }
-  for (int k = 0; k < n; ++k) add_segment(vertices.row(k).transpose(), vertices.row((k + 1) % n).transpose());
-  e.container.outlines = std::move(outlines);
+  std::vector<WallShape> sides;
+  for (int k = 0; k < n; ++k) sides.push_back(WallShape{WallKind::Segment, vertices.row(k).transpose(), vertices.row((k + 1) % n).transpose(), 0.0});
+  add_outline(e, "add_polygon", std::move(sides), false);
 }
 
 void Simulation::add_box(const Vec2& lower, const Vec2& upper) {

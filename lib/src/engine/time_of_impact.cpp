@@ -110,14 +110,15 @@ int roots_in(const double* p, int degree, double lo, double hi, double* out) {
 
 }  // namespace
 
-double first_polynomial_crossing(const double* p, int degree, double t_max, bool rising) {
+int polynomial_crossings(const double* p, int degree, double t_max, bool rising, double* out, int max_count) {
   while (degree > 0 && p[degree] == 0) --degree;
-  if (degree <= 0 || !(t_max > 0)) return kNever;
+  if (degree <= 0 || !(t_max > 0) || max_count <= 0) return 0;
   // Monotone pieces of p on [0, t_max]: between consecutive roots of p'.
   double derivative[4];
   for (int k = 1; k <= degree; ++k) derivative[k - 1] = k * p[k];
   double critical[4];
   const int n_critical = roots_in(derivative, degree - 1, 0.0, t_max, critical);
+  int count = 0;
   double x0 = 0.0;
   double f0 = horner(p, degree, 0.0);
   for (int k = 0; k <= n_critical; ++k) {
@@ -125,12 +126,26 @@ double first_polynomial_crossing(const double* p, int degree, double t_max, bool
     const double f1 = horner(p, degree, x1);
     const double s0 = rising ? f0 : -f0;  // flip so that we always look for an upward crossing
     const double s1 = rising ? f1 : -f1;
-    if (s0 < 0 && s1 >= 0) return s1 == 0 ? x1 : bisect(p, degree, x0, x1, f0);
-    if (s0 == 0 && s1 > 0 && k > 0) return x0;
+    double found = kNever;
+    if (s0 < 0 && s1 >= 0) {
+      found = s1 == 0 ? x1 : bisect(p, degree, x0, x1, f0);
+    } else if (s0 == 0 && s1 > 0 && k > 0 && (count == 0 || out[count - 1] != x0)) {
+      found = x0;
+    }
+    if (found < kNever) {
+      out[count++] = found;
+      if (count == max_count) return count;
+    }
     x0 = x1;
     f0 = f1;
   }
-  return kNever;
+  return count;
+}
+
+double first_polynomial_crossing(const double* p, int degree, double t_max, bool rising) {
+  double t = kNever;
+  polynomial_crossings(p, degree, t_max, rising, &t, 1);
+  return t;
 }
 
 double disc_disc_time(const Vec2& dr, const Vec2& dv, double contact) {
@@ -231,6 +246,83 @@ double disc_segment_time(const Vec2& r, const Vec2& v, const Vec2& g, const Vec2
   if (ca > 0) {
     const QuadraticRoots roots = solve_quadratic(ca, side * vn, radius + side * d0);
     if (roots.count == 2 && roots.lo > 0 && roots.hi < best && on_segment(roots.hi)) best = roots.hi;
+  }
+  return best;
+}
+
+bool arc_contains(double start, double sweep, const Vec2& d) {
+  constexpr double kTurn = 2 * M_PI;
+  if (sweep >= kTurn) return true;
+  double angle = std::atan2(d.y(), d.x()) - start;
+  angle -= kTurn * std::floor(angle / kTurn);  // in [0, 2 pi)
+  return angle <= sweep;
+}
+
+double disc_arc_time(const Vec2& r, const Vec2& v, const Vec2& g, double rho, double start, double sweep,
+                     double radius) {
+  // Contact with the circle of the arc: |r(t)| = outer (disc outside the circle, convex side) or
+  // |r(t)| = inner (disc inside, concave side), where r(t) = r + v t + g t^2 / 2. Squared:
+  // f(t) = |r(t)|^2 - reach^2 = (g.g/4) t^4 + (v.g) t^3 + (v.v + r.g) t^2 + 2 (r.v) t + r.r - reach^2.
+  // The contact counts only if the direction r(t) lies on the arc; otherwise the disc passes
+  // through the gap (or meets an end point, a separate wall) and may meet the other face later.
+  const double outer = rho + radius;
+  const double inner = rho - radius;  // <= 0: the disc is too large to touch the concave face
+  const bool outside = r.squaredNorm() >= rho * rho;
+  auto on_arc = [&](double t) { return arc_contains(start, sweep, Vec2(r + v * t + (0.5 * t * t) * g)); };
+  const double A = v.squaredNorm();
+  const double B = r.dot(v);
+  const double C = r.squaredNorm();
+  if (g.x() == 0 && g.y() == 0) {
+    if (A == 0) return kNever;
+    if (outside) {
+      // Convex face: |r(t)| falls to outer at the earlier root (the centre as a disc of radius
+      // rho; rounding overlap while approaching: now).
+      const double t = disc_disc_time(r, v, outer);
+      if (t < kNever && on_arc(t)) return t;
+      // Missed the arc (or the circle): through the gap, the line dips below inner and meets
+      // the concave face on its way out, at the later root of A t^2 + 2 B t + C - inner^2.
+      if (inner > 0) {
+        const QuadraticRoots roots = solve_quadratic(A, 2 * B, C - inner * inner);
+        if (roots.count == 2 && roots.lo > 0 && on_arc(roots.hi)) return roots.hi;
+      }
+      return kNever;
+    }
+    // Inside: a straight line leaving the circle never comes back, so only the concave face
+    // (penetration |r(t)|^2 - inner^2 rising through zero; rounding overlap moving out: now).
+    if (!(inner > 0)) return kNever;
+    const double t = first_upward_root(A, 2 * B, C - inner * inner);
+    return t < kNever && on_arc(t) ? t : kNever;
+  }
+  // Gravity. Contact now (rounding overlap, moving in) is decided as for the full circle.
+  if (outside) {
+    if (disc_point_time(r, v, g, Vec2::Zero(), outer) == 0 && on_arc(0)) return 0.0;
+  } else if (inner > 0 && disc_in_circle_time(r, v, g, inner) == 0 && on_arc(0)) {
+    return 0.0;
+  }
+  // Later contacts: every crossing before t_max (beyond it |r(t)| >= |g| t^2/2 - |v| t - |r| >
+  // outer for good), the earliest on the arc. Moving along the circle (cosine between r and v
+  // below 1e-12) counts as neither approaching nor receding, as in disc_point_time.
+  const QuadraticRoots bound = solve_quadratic(0.5 * g.norm(), -v.norm(), -(r.norm() + outer));
+  const double t_max = bound.hi;
+  const double slope = B * B <= 1e-24 * C * A ? 0.0 : 2 * B;
+  const double second = A + r.dot(g);
+  double best = kNever;
+  double crossings[4];
+  const double convex[5] = {C - outer * outer, slope, second, v.dot(g), 0.25 * g.squaredNorm()};
+  for (int k = 0, n = polynomial_crossings(convex, 4, t_max, false, crossings, 4); k < n; ++k) {
+    if (on_arc(crossings[k])) {
+      best = crossings[k];
+      break;
+    }
+  }
+  if (inner > 0) {
+    const double concave[5] = {C - inner * inner, slope, second, v.dot(g), 0.25 * g.squaredNorm()};
+    for (int k = 0, n = polynomial_crossings(concave, 4, t_max, true, crossings, 4); k < n && crossings[k] < best; ++k) {
+      if (on_arc(crossings[k])) {
+        best = crossings[k];
+        break;
+      }
+    }
   }
   return best;
 }

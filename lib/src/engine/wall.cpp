@@ -2,6 +2,8 @@
 // contact normal.
 #include "billiard/engine/wall.hpp"
 
+#include "billiard/engine/time_of_impact.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -28,6 +30,17 @@ Vec2 closest_point(const WallShape& wall, const Vec2& p) {
       const Vec2 d = p - wall.a;
       const double norm = d.norm();
       return norm > 0 ? Vec2(wall.a + wall.radius / norm * d) : Vec2(wall.a + Vec2(wall.radius, 0));
+    }
+    case WallKind::Arc: {
+      // On the arc: radially; off it, the nearer end point (the distance to the circle's points
+      // grows with the angle from p's direction).
+      const Vec2 d = p - wall.a;
+      const double norm = d.norm();
+      if (norm > 0 && arc_contains(wall.start_angle, wall.sweep, d)) return wall.a + wall.radius / norm * d;
+      if (wall.sweep >= 2 * M_PI) return arc_point(wall, wall.start_angle);  // (p at the centre)
+      const Vec2 first = arc_point(wall, wall.start_angle);
+      const Vec2 last = arc_point(wall, wall.start_angle + wall.sweep);
+      return (first - p).squaredNorm() <= (last - p).squaredNorm() ? first : last;
     }
   }
   return wall.a;
@@ -60,6 +73,110 @@ double segment_rectangle_distance(const Vec2& a, const Vec2& b, const Vec2& lo, 
   double best = std::min(point_rectangle_distance(a, lo, hi), point_rectangle_distance(b, lo, hi));
   for (const Vec2& corner : corners) best = std::min(best, distance_to_segment(corner, a, b));
   return best;
+}
+
+Vec2 arc_point(const WallShape& arc, double angle) {
+  return arc.a + arc.radius * Vec2(std::cos(angle), std::sin(angle));
+}
+
+namespace {
+// The angles (within the arc) where its circle is farthest in x or y: 0, pi/2, pi, 3 pi/2.
+template <class Visit>
+void arc_extremes(const WallShape& arc, Visit visit) {
+  for (int quarter = 0; quarter < 4; ++quarter) {
+    const double angle = quarter * M_PI / 2;
+    const Vec2 direction(quarter == 0 ? 1.0 : quarter == 2 ? -1.0 : 0.0, quarter == 1 ? 1.0 : quarter == 3 ? -1.0 : 0.0);
+    if (arc_contains(arc.start_angle, arc.sweep, direction)) visit(angle, Vec2(arc.a + arc.radius * direction));
+  }
+}
+}  // namespace
+
+void arc_bounds(const WallShape& arc, Vec2& lo, Vec2& hi) {
+  if (arc.sweep >= 2 * M_PI) {
+    lo = arc.a - Vec2::Constant(arc.radius);
+    hi = arc.a + Vec2::Constant(arc.radius);
+    return;
+  }
+  lo = hi = arc_point(arc, arc.start_angle);
+  const Vec2 last = arc_point(arc, arc.start_angle + arc.sweep);
+  lo = lo.cwiseMin(last);
+  hi = hi.cwiseMax(last);
+  arc_extremes(arc, [&](double, const Vec2& p) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  });
+}
+
+double arc_rectangle_distance(const WallShape& arc, const Vec2& lo, const Vec2& hi) {
+  const bool full = arc.sweep >= 2 * M_PI;
+  const Vec2 first = arc_point(arc, arc.start_angle);
+  const Vec2 last = arc_point(arc, arc.start_angle + arc.sweep);
+  if (!full && (point_rectangle_distance(first, lo, hi) == 0 || point_rectangle_distance(last, lo, hi) == 0)) return 0.0;
+  // Does the arc cross a side of the rectangle? The circle meets the line x = X (or y = Y) where
+  // the other coordinate is the centre's +- sqrt(radius^2 - (X - centre)^2).
+  for (int axis = 0; axis < 2; ++axis) {
+    const int other = 1 - axis;
+    for (const double side : {lo[axis], hi[axis]}) {
+      const double offset = side - arc.a[axis];
+      const double half = arc.radius * arc.radius - offset * offset;
+      if (half < 0) continue;
+      for (const double sign : {-1.0, 1.0}) {
+        Vec2 d;
+        d[axis] = offset;
+        d[other] = sign * std::sqrt(half);
+        const double along = arc.a[other] + d[other];
+        if (along >= lo[other] && along <= hi[other] && (d.squaredNorm() == 0 || arc_contains(arc.start_angle, arc.sweep, d))) return 0.0;
+      }
+    }
+  }
+  // Apart: the closest pair is an end point of the arc with the rectangle, a corner with the arc,
+  // or a point of the arc where its normal is parallel to a side (its extremes in x and y).
+  auto to_arc = [&](const Vec2& p) {
+    const WallShape& wall = arc;
+    return (closest_point(wall, p) - p).norm();
+  };
+  double best = kNever;
+  if (!full) best = std::min(point_rectangle_distance(first, lo, hi), point_rectangle_distance(last, lo, hi));
+  for (const Vec2& corner : {lo, Vec2(hi.x(), lo.y()), hi, Vec2(lo.x(), hi.y())}) best = std::min(best, to_arc(corner));
+  arc_extremes(arc, [&](double, const Vec2& p) { best = std::min(best, point_rectangle_distance(p, lo, hi)); });
+  return best;
+}
+
+bool inside_pieces(const std::vector<WallShape>& pieces, const Vec2& p) {
+  bool inside = false;
+  // One y-monotone piece from u to v: crossed if its ends lie on either side of the ray's line
+  // (an end exactly on it counts as below, as in inside_polygon), at x = x_at.
+  auto cross_piece = [&](const Vec2& u, const Vec2& v, auto x_at) {
+    if ((u.y() > p.y()) != (v.y() > p.y()) && p.x() < x_at()) inside = !inside;
+  };
+  for (const WallShape& piece : pieces) {
+    if (piece.kind == WallKind::Segment) {
+      const Vec2& u = piece.a;
+      const Vec2& v = piece.b;
+      cross_piece(u, v, [&] { return (u.x() - v.x()) * (p.y() - v.y()) / (u.y() - v.y()) + v.x(); });
+      continue;
+    }
+    if (piece.kind != WallKind::Arc) continue;
+    // Split at the highest and lowest points of the circle (angles pi/2 + k pi) inside the arc.
+    const double end = piece.start_angle + piece.sweep;
+    double from = piece.start_angle;
+    Vec2 u = arc_point(piece, from);
+    while (from < end) {
+      double to = (std::floor((from - M_PI / 2) / M_PI) + 1) * M_PI + M_PI / 2;  // next split after `from`
+      if (to <= from) to += M_PI;
+      const bool last = to >= end;
+      if (last) to = end;
+      const Vec2 v = last && piece.sweep < 2 * M_PI ? arc_point(piece, end) : arc_point(piece, to);
+      const double side = std::cos(0.5 * (from + to)) >= 0 ? 1.0 : -1.0;  // right or left half
+      cross_piece(u, v, [&] {
+        const double dy = p.y() - piece.a.y();
+        return piece.a.x() + side * std::sqrt(std::max(piece.radius * piece.radius - dy * dy, 0.0));
+      });
+      from = to;
+      u = v;
+    }
+  }
+  return inside;
 }
 
 bool inside_polygon(const Points& vertices, const Vec2& p) {

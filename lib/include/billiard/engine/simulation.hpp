@@ -89,6 +89,30 @@ class Simulation {
   // inside an odd number of the closed polygons and boxes (so a polygon inside a box is an
   // obstacle).
   void add_polygon(const Points& vertices);
+  // Curved walls. Angles in radians, counter-clockwise from +x.
+  // A circular arc (two-sided, like a segment: discs meet it from inside its circle or from
+  // outside) of `radius` about `centre`, counter-clockwise from start_angle to end_angle
+  // (0 < end_angle - start_angle <= 2 pi; 2 pi is a whole circle), and its two end points;
+  // returns the arc's wall index.
+  int add_arc(const Vec2& centre, double radius, double start_angle, double end_angle);
+  // A disc obstacle: a whole circle that discs stay outside of (a hole in the container, which
+  // must be set as well: a table, box, polygon or curved outline around it).
+  void add_disc_obstacle(const Vec2& centre, double radius);
+  // A stadium: two half circles of `radius` whose centres lie `length` apart on a horizontal
+  // line through `centre`, joined by two straight sides of that length; discs live inside it.
+  void add_stadium(const Vec2& centre, double radius, double length);
+  // The Sinai billiard: the box [lower, upper] with a disc obstacle of obstacle_radius at its
+  // middle (2 obstacle_radius below the smaller side).
+  void add_sinai_billiard(const Vec2& lower, const Vec2& upper, double obstacle_radius);
+  // A mushroom: a half-disc cap of cap_radius above the horizontal line through `centre` (the
+  // middle of its flat side), on a rectangular stem stem_width wide (< 2 cap_radius) and
+  // stem_height tall below it; discs live inside it.
+  void add_mushroom(const Vec2& centre, double cap_radius, double stem_width, double stem_height);
+  // The union of circles (centres N by 2, radii N): its boundary is the arcs of each circle
+  // outside all the others, and the points where two such arcs meet are point walls. Discs
+  // live inside the union.
+  // The curved outlines count in the even-odd rule like polygons.
+  void add_union_of_circles(const Points& centres, const std::vector<double>& radii);
 
   // ---- Physics ----
   void set_gravity(const Vec2& g);                      // uniform, any direction; default 0

@@ -62,6 +62,26 @@ double disc_in_circle_time(const Vec2& r, const Vec2& v, const Vec2& g, double r
 double disc_segment_time(const Vec2& r, const Vec2& v, const Vec2& g, const Vec2& a, const Vec2& b,
                          double radius);
 
+// Every crossing of zero by p (as in first_polynomial_crossing) in [0, t_max], in increasing
+// order, at most max_count of them (at most 4 exist); returns how many were written to `out`.
+int polynomial_crossings(const double* p, int degree, double t_max, bool rising, double* out, int max_count);
+
+// Is the direction d (from an arc's centre, d != 0) on the arc that starts at the angle `start`
+// and runs counter-clockwise through `sweep` radians (0 < sweep <= 2 pi; 2 pi is a full circle)?
+bool arc_contains(double start, double sweep, const Vec2& d);
+
+// A disc of `radius` at r (relative to the arc's centre) with velocity v under gravity g hitting
+// the arc of radius rho (start angle and sweep as in arc_contains) from either side: from inside
+// (concave) when |r(t)| rises to rho - radius, from outside (convex) when it falls to
+// rho + radius, the contact point's direction r(t) lying on the arc. The end points are separate
+// obstacles (disc_point_time). Without gravity |r(t)|^2 is a quadratic in t and the candidates
+// are closed-form roots; under gravity a quartic, and a disc may pass through the gap of the arc
+// and meet it later from the other side, so every crossing is checked in turn and the earliest
+// one on the arc is the contact. A full circle seen from inside is disc_in_circle_time, from
+// outside disc_point_time with the point at the centre and radius rho + radius.
+double disc_arc_time(const Vec2& r, const Vec2& v, const Vec2& g, double rho, double start, double sweep,
+                     double radius);
+
 // A point at x moving at constant speed v between faces lo and hi (either may be +-infinity):
 // time to the face ahead, the larger of the times to the two faces (the face behind is reached
 // at a negative time, or at -infinity when at rest), so that nothing branches on the sign of v,

@@ -1,7 +1,8 @@
-// Walls: the fixed obstacles discs bounce off. Three shapes cover every container the engine
-// supports: straight segments (a box is four, a polygon one per side), points (the end points
-// of segments, which discs passing a free end or a concave corner hit), and the circular table
-// (discs inside a circle). Walls have infinite mass and inertia.
+// Walls: the fixed obstacles discs bounce off. Four shapes cover every container the engine
+// supports: straight segments (a box is four, a polygon one per side), circular arcs (curved
+// outlines such as a stadium, disc obstacles), points (the end points of segments and arcs,
+// which discs passing a free end or a concave corner hit), and the circular table (discs inside
+// a circle). Walls have infinite mass and inertia.
 #pragma once
 
 #include "billiard/engine/vec2.hpp"
@@ -10,16 +11,37 @@
 
 namespace billiard {
 
-enum class WallKind : int { Segment, Point, Circle };
+enum class WallKind : int { Segment, Point, Circle, Arc };
 
 // One wall. Segment: from `a` to `b`, hit on either face. Point: at `a`. Circle: centre `a`,
-// radius `radius`, discs live inside it.
+// radius `radius`, discs live inside it. Arc: centre `a`, radius `radius`, from the angle
+// `start_angle` counter-clockwise through `sweep` radians (0 < sweep <= 2 pi; 2 pi is a full
+// circle), hit on either face (from inside the circle or from outside).
 struct WallShape {
   WallKind kind = WallKind::Point;
   Vec2 a = Vec2::Zero();
   Vec2 b = Vec2::Zero();
   double radius = 0.0;
+  double start_angle = 0.0;
+  double sweep = 0.0;
 };
+
+// The point of an arc's circle at `angle`: its end points are arc_point(arc, start_angle) and
+// arc_point(arc, start_angle + sweep) (segments joining an arc are built from these, so that they
+// meet it exactly).
+Vec2 arc_point(const WallShape& arc, double angle);
+
+// Distance between an arc and the axis-aligned rectangle [lo, hi] (0 if they meet).
+double arc_rectangle_distance(const WallShape& arc, const Vec2& lo, const Vec2& hi);
+
+// The smallest axis-aligned box holding the arc.
+void arc_bounds(const WallShape& arc, Vec2& lo, Vec2& hi);
+
+// Even-odd rule for a closed curve made of segments and arcs (in any order; several closed
+// curves may be mixed): does a ray from p towards +x cross the pieces an odd number of times?
+// For segments it is inside_polygon's rule; an arc counts like the y-monotone pieces it splits
+// into at its highest and lowest points.
+bool inside_pieces(const std::vector<WallShape>& pieces, const Vec2& p);
 
 // Closest point of a wall to the point p (for a circle: on its rim, towards p).
 Vec2 closest_point(const WallShape& wall, const Vec2& p);

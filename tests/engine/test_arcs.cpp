@@ -1,0 +1,538 @@
+// Curved walls (circular arcs): times of impact a person can check by hand, gravity cases against
+// a direct numeric search, the arc as a wall of the engine, curved containers (stadium, Sinai
+// billiard, mushroom, union of circles) over many collisions, and the argument checks.
+#include "billiard/engine/simulation.hpp"
+#include "billiard/engine/time_of_impact.hpp"
+#include "helpers.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <random>
+
+using billiard::kNever;
+using billiard::Vec2;
+
+namespace {
+
+const Vec2 kNoGravity = Vec2::Zero();
+constexpr double kPi = 3.14159265358979323846;
+
+// Is direction d on the arc from `start` counter-clockwise through `sweep`? Written with cross
+// products, independently of the engine's angle arithmetic.
+bool on_arc_by_cross_products(double start, double sweep, const Vec2& d) {
+  if (sweep >= 2 * kPi) return true;
+  const Vec2 s(std::cos(start), std::sin(start));
+  const Vec2 e(std::cos(start + sweep), std::sin(start + sweep));
+  const bool after_start = billiard::cross(s, d) >= 0;
+  const bool before_end = billiard::cross(d, e) >= 0;
+  return sweep <= kPi ? (after_start && before_end) : (after_start || before_end);
+}
+
+// Direct numeric search for the first contact of a disc with an arc: |r(t)| - reach sampled on
+// a fine grid up to t_end, each sign change in the contact direction refined by bisection, the
+// first one whose direction lies on the arc.
+double numeric_arc_time(const Vec2& r, const Vec2& v, const Vec2& g, double rho, double start, double sweep,
+                        double radius, double t_end) {
+  auto at = [&](double t) -> Vec2 { return r + v * t + 0.5 * t * t * g; };
+  struct Face {
+    double reach;
+    double sign;  // +1: contact when |r| rises to reach (concave); -1: when it falls (convex)
+  };
+  const Face faces[2] = {{rho - radius, +1}, {rho + radius, -1}};
+  const int steps = 400000;
+  double best = kNever;
+  for (const Face& face : faces) {
+    if (face.reach <= 0) continue;
+    auto h = [&](double t) { return face.sign * (at(t).norm() - face.reach); };
+    double t0 = 0, h0 = h(0);
+    for (int k = 1; k <= steps; ++k) {
+      const double t1 = t_end * k / steps, h1 = h(t1);
+      if (h0 < 0 && h1 >= 0) {
+        double lo = t0, hi = t1;
+        for (int i = 0; i < 200; ++i) {
+          const double mid = 0.5 * (lo + hi);
+          (h(mid) < 0 ? lo : hi) = mid;
+        }
+        if (on_arc_by_cross_products(start, sweep, at(hi))) {
+          best = std::min(best, hi);
+          break;
+        }
+      }
+      t0 = t1;
+      h0 = h1;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+// ---- Times of impact ----
+
+TEST(ArcTime, DiscLeavingTheCentreOfAFullCircleHitsItAtReachOverSpeed) {
+  // rho = 5, radius 1, speed 2: t = (rho - a) / |v| = 2, in any direction.
+  for (const Vec2& v : {Vec2(2, 0), Vec2(1.2, 1.6), Vec2(0, -2)}) {
+    EXPECT_DOUBLE_EQ(billiard::disc_arc_time(Vec2::Zero(), v, kNoGravity, 5, 0, 2 * kPi, 1), 2.0);
+  }
+}
+
+TEST(ArcTime, DiscInsideHitsTheConcaveArcOnlyWhereTheArcIs) {
+  // The right quarter of the circle rho = 5 (angles -45 to +45 degrees), a disc of radius 1 at
+  // the centre: moving right it meets the arc at t = 4 / 2; moving left it leaves through the gap.
+  EXPECT_DOUBLE_EQ(billiard::disc_arc_time(Vec2::Zero(), Vec2(2, 0), kNoGravity, 5, -kPi / 4, kPi / 2, 1), 2.0);
+  EXPECT_EQ(billiard::disc_arc_time(Vec2::Zero(), Vec2(-2, 0), kNoGravity, 5, -kPi / 4, kPi / 2, 1), kNever);
+  // From (0, 3) moving right: |r(t)|^2 = t^2 + 9 = 16 at t = sqrt(7), direction (sqrt 7, 3) at
+  // 48.6 degrees: past the end of the arc, so no contact.
+  EXPECT_EQ(billiard::disc_arc_time(Vec2(0, 3), Vec2(1, 0), kNoGravity, 5, -kPi / 4, kPi / 2, 1), kNever);
+  // From (0, 2): t = sqrt(12), direction at 30 degrees: on the arc.
+  EXPECT_NEAR(billiard::disc_arc_time(Vec2(0, 2), Vec2(1, 0), kNoGravity, 5, -kPi / 4, kPi / 2, 1), std::sqrt(12.0),
+              1e-15);
+}
+
+TEST(ArcTime, ConvexObstacleAtGrazingDistanceAndJustInsideAndOutsideIt) {
+  // Obstacle rho = 2, disc radius 1 moving right along y = b from x = -10: contact distance 3.
+  const double rho = 2, a = 1;
+  auto time_at = [&](double b) { return billiard::disc_arc_time(Vec2(-10, b), Vec2(1, 0), kNoGravity, rho, 0, 2 * kPi, a); };
+  // Exactly grazing: touches at x = 0, t = 10 (no effect on the velocity, see the engine test).
+  EXPECT_DOUBLE_EQ(time_at(3.0), 10.0);
+  // Just inside: contact at x = -sqrt(9 - b^2).
+  const double b = 3 - 1e-3;
+  EXPECT_NEAR(time_at(b), 10 - std::sqrt(9 - b * b), 1e-12);
+  // Just outside: never.
+  EXPECT_EQ(time_at(3 + 1e-3), kNever);
+  // Moving away: never; a hair inside the contact distance and approaching: now.
+  EXPECT_EQ(billiard::disc_arc_time(Vec2(-4, 0), Vec2(-1, 0), kNoGravity, rho, 0, 2 * kPi, a), kNever);
+  EXPECT_EQ(billiard::disc_arc_time(Vec2(-3 + 1e-15, 0), Vec2(1, 0), kNoGravity, rho, 0, 2 * kPi, a), 0.0);
+}
+
+TEST(ArcTime, GapsAndEndPoints) {
+  // The upper half of the circle rho = 5 (angles 0 to 180 degrees), disc radius 0.5.
+  const double rho = 5, a = 0.5, start = 0, sweep = kPi;
+  auto time = [&](const Vec2& r, const Vec2& v) { return billiard::disc_arc_time(r, v, kNoGravity, rho, start, sweep, a); };
+  // Moving right below the arc (y = -2): crosses the missing half twice, no contact.
+  EXPECT_EQ(time(Vec2(-8, -2), Vec2(1, 0)), kNever);
+  // From the centre straight down: out through the gap.
+  EXPECT_EQ(time(Vec2::Zero(), Vec2(0, -1)), kNever);
+  // From (0, -8) straight up: in through the gap, meets the inside of the arc at y = 4.5, t = 12.5.
+  EXPECT_DOUBLE_EQ(time(Vec2(0, -8), Vec2(0, 1)), 12.5);
+  // From (0, 8) straight down: the outside of the arc at y = 5.5, t = 2.5.
+  EXPECT_DOUBLE_EQ(time(Vec2(0, 8), Vec2(0, -1)), 2.5);
+  // Aimed at the end point (5, 0) from below: the arc itself is never touched (the end point is a
+  // separate wall, met at t = 3 - 0.5 = 2.5).
+  EXPECT_EQ(time(Vec2(5, -3), Vec2(0, 1)), kNever);
+  EXPECT_DOUBLE_EQ(billiard::disc_point_time(Vec2(5, -3), Vec2(0, 1), kNoGravity, Vec2(5, 0), a), 2.5);
+}
+
+TEST(ArcTime, RoundingConventionOnBothFaces) {
+  // A hair beyond the concave contact (|r| = 4.5 + 1e-15) moving out: now; moving in: later.
+  const Vec2 r(4.5 + 1e-15, 0);
+  EXPECT_EQ(billiard::disc_arc_time(r, Vec2(1, 0), kNoGravity, 5, -1, 2, 0.5), 0.0);
+  EXPECT_GT(billiard::disc_arc_time(r, Vec2(-1, 0), kNoGravity, 5, -1, 2, 0.5), 8.9);
+  // Just bounced off the convex face (|r| = 5.5 exactly, moving out): never.
+  EXPECT_EQ(billiard::disc_arc_time(Vec2(5.5, 0), Vec2(1, 0.3), kNoGravity, 5, -1, 2, 0.5), kNever);
+}
+
+TEST(ArcTime, UnderGravityADiscDroppedIntoACupFallsThroughTheOpenTop) {
+  // The lower half of rho = 5 (angles 180 to 360 degrees) as a cup; a disc of radius 0.5 at rest
+  // at (1, 8), g = (0, -1): it falls through the open top and meets the inside of the cup at
+  // y = -sqrt(4.5^2 - 1), after falling 8 + sqrt(19.25): t = sqrt(2 (8 + sqrt(19.25))).
+  const double t = billiard::disc_arc_time(Vec2(1, 8), Vec2::Zero(), Vec2(0, -1), 5, kPi, kPi, 0.5);
+  EXPECT_NEAR(t, std::sqrt(2 * (8 + std::sqrt(19.25))), 1e-12);
+}
+
+TEST(ArcTime, UnderGravityThrownUpThroughTheGapIntoADome) {
+  // The upper half of rho = 5 as a dome, disc radius 0.5 thrown up from (0, -8) at speed 6, g = 1:
+  // y(t) = -8 + 6 t - t^2 / 2 reaches 4.5 (inside the dome) at t = 6 - sqrt(11).
+  const double t = billiard::disc_arc_time(Vec2(0, -8), Vec2(0, 6), Vec2(0, -1), 5, 0, kPi, 0.5);
+  EXPECT_NEAR(t, 6 - std::sqrt(11.0), 1e-12);
+}
+
+TEST(ArcTime, UnderGravityAgreesWithADirectNumericSearch) {
+  // Throws past arcs of several shapes: some pass the gap and come back onto the other face.
+  struct Case {
+    Vec2 r, v, g;
+    double rho, start, sweep, radius;
+  };
+  const Case cases[] = {
+      {Vec2(7, -1), Vec2(-0.8, 6), Vec2(0, -1), 5, 0, kPi, 0.5},        // over the end, onto the dome
+      {Vec2(0, -8), Vec2(0.7, 6.5), Vec2(0, -1), 5, 0, kPi, 0.5},       // up into the dome, off centre
+      {Vec2(-9, 2), Vec2(3, 1), Vec2(0.2, -1), 4, kPi / 3, kPi, 0.3},   // tilted gravity, left arc
+      {Vec2(1, 1), Vec2(2, 0.5), Vec2(0, -2), 3, -kPi / 2, 1.5 * kPi, 0.25},  // inside a 3/4 circle
+      {Vec2(0, 6), Vec2(-0.5, 0), Vec2(0, -1), 3, 0, 2 * kPi, 1},       // onto a full circle obstacle
+  };
+  for (const Case& c : cases) {
+    const double t = billiard::disc_arc_time(c.r, c.v, c.g, c.rho, c.start, c.sweep, c.radius);
+    const double expected = numeric_arc_time(c.r, c.v, c.g, c.rho, c.start, c.sweep, c.radius, 40);
+    ASSERT_LT(expected, kNever) << "the case must have a contact before t = 40";
+    // The grid search finds the contact to the bisection's precision unless two sign changes
+    // fall within one step (1e-4): none do here.
+    EXPECT_NEAR(t, expected, 1e-9 * (1 + expected)) << "r = (" << c.r.x() << ", " << c.r.y() << ")";
+  }
+}
+
+// ---- The arc as a wall of the engine ----
+
+namespace {
+
+using engine_test::make_disc;
+
+// The first event of a one-disc simulation.
+billiard::EventRecord first_event(billiard::Simulation& sim) {
+  sim.enable_event_log(true);
+  const billiard::AdvanceResult result = sim.advance(1);
+  EXPECT_EQ(result.collisions, 1);
+  EXPECT_EQ(sim.validate(), "");
+  return sim.event_log().empty() ? billiard::EventRecord{} : sim.event_log().back();
+}
+
+}  // namespace
+
+TEST(ArcWall, DiscThroughTheGapMeetsTheInsideOfAFreeArc) {
+  // The upper half of rho = 5 in the box [-10, 10]^2; a disc of radius 0.5 from (0, -8) moving
+  // up passes the open lower half and meets the inside of the arc at y = 4.5, t = 12.5, and
+  // bounces straight back.
+  billiard::Simulation sim;
+  sim.add_box(Vec2(-10, -10), Vec2(10, 10));
+  const int arc = sim.add_arc(Vec2(0, 0), 5, 0, kPi);
+  sim.add_disc(make_disc(Vec2(0, -8), Vec2(0, 1), 0.5));
+  const billiard::EventRecord e = first_event(sim);
+  EXPECT_EQ(e.wall, arc);
+  EXPECT_DOUBLE_EQ(e.time, 12.5);
+  EXPECT_NEAR(e.velocity.x(), 0, 1e-15);
+  EXPECT_DOUBLE_EQ(e.velocity.y(), -1);
+  // The arc's end points are point walls.
+  int points = 0;
+  for (const billiard::WallShape& w : sim.walls()) {
+    if (w.kind == billiard::WallKind::Point && ((w.a - Vec2(5, 0)).norm() < 1e-14 || (w.a - Vec2(-5, 0)).norm() < 1e-14)) ++points;
+  }
+  EXPECT_EQ(points, 2);
+}
+
+TEST(ArcWall, DiscAimedAtAnEndPointHitsThePoint) {
+  // From (5, -3) straight up at the end point (5, 0): contact at t = 3 - 0.5 = 2.5, head on.
+  billiard::Simulation sim;
+  sim.add_box(Vec2(-10, -10), Vec2(10, 10));
+  sim.add_arc(Vec2(0, 0), 5, 0, kPi);
+  sim.add_disc(make_disc(Vec2(5, -3), Vec2(0, 1), 0.5));
+  const billiard::EventRecord e = first_event(sim);
+  ASSERT_GE(e.wall, 0);
+  EXPECT_EQ(sim.walls()[static_cast<std::size_t>(e.wall)].kind, billiard::WallKind::Point);
+  EXPECT_DOUBLE_EQ(e.time, 2.5);
+  EXPECT_NEAR(e.velocity.y(), -1, 1e-15);
+}
+
+TEST(ArcWall, DiscAimedAtTheGapReachesTheBoxWall) {
+  // Moving right along y = -2 under the upper-half arc: nothing until the box wall x = 10 at
+  // t = (9.5 - (-8)) = 17.5.
+  billiard::Simulation sim;
+  sim.add_box(Vec2(-10, -10), Vec2(10, 10));
+  sim.add_arc(Vec2(0, 0), 5, 0, kPi);
+  sim.add_disc(make_disc(Vec2(-8, -2), Vec2(1, 0), 0.5));
+  const billiard::EventRecord e = first_event(sim);
+  EXPECT_EQ(sim.walls()[static_cast<std::size_t>(e.wall)].kind, billiard::WallKind::Segment);
+  EXPECT_DOUBLE_EQ(e.time, 17.5);
+}
+
+TEST(ArcWall, DiscObstacleGrazedAndHit) {
+  // Obstacle rho = 2 at the origin, disc radius 1 along y = b from x = -10 at speed 1.
+  auto run = [](double b) {
+    billiard::Simulation sim;
+    sim.add_box(Vec2(-20, -20), Vec2(20, 20));
+    sim.add_disc_obstacle(Vec2(0, 0), 2);
+    sim.add_disc(make_disc(Vec2(-10, b), Vec2(1, 0), 1));
+    return first_event(sim);
+  };
+  // Grazing at distance 3: touches at t = 10, velocity unchanged (v.n = 0).
+  const billiard::EventRecord graze = run(3);
+  EXPECT_DOUBLE_EQ(graze.time, 10);
+  EXPECT_NEAR(graze.velocity.x(), 1, 1e-15);
+  EXPECT_NEAR(graze.velocity.y(), 0, 1e-15);
+  // Just inside: contact at x = -sqrt(9 - b^2), mirror reflection about n = (x, b) / 3.
+  const double b = 2.5;
+  const billiard::EventRecord hit = run(b);
+  const double x = -std::sqrt(9 - b * b);
+  EXPECT_NEAR(hit.time, 10 + x, 1e-12);
+  const Vec2 n = Vec2(x, b) / 3, v(1, 0);
+  const Vec2 expected = v - 2 * v.dot(n) * n;
+  EXPECT_NEAR(hit.velocity.x(), expected.x(), 1e-12);
+  EXPECT_NEAR(hit.velocity.y(), expected.y(), 1e-12);
+  // Just outside: it reaches the box wall x = 20 at t = 29.
+  EXPECT_DOUBLE_EQ(run(3.001).time, 29);
+}
+
+TEST(ArcWall, DiscsInsideAFreeRingStayInsideItUnderGravity) {
+  // A whole free circle of radius 5 at (3, 2) inside a box: discs placed inside it stay there.
+  billiard::Simulation sim;
+  sim.add_box(Vec2(-10, -10), Vec2(20, 20));
+  sim.add_arc(Vec2(3, 2), 5, 1, 1 + 2 * kPi);
+  sim.set_gravity(Vec2(0.1, -1));
+  for (int k = 0; k < 6; ++k) sim.add_disc(make_disc(Vec2(3 + 1.2 * (k - 2.5), 2 + 0.3 * k), Vec2(std::cos(k), std::sin(k)), 0.4));
+  const double energy = sim.kinetic_energy() + sim.potential_energy();
+  sim.advance(20000);
+  EXPECT_EQ(sim.validate(), "");
+  const billiard::State s = sim.current_state();
+  for (Eigen::Index i = 0; i < s.positions.rows(); ++i) {
+    EXPECT_LE((Vec2(s.positions.row(i).transpose()) - Vec2(3, 2)).norm(), 5 - 0.4 + 1e-9);
+  }
+  EXPECT_NEAR(sim.kinetic_energy() + sim.potential_energy(), energy, 1e-9 * energy);
+}
+
+// ---- Curved containers over many collisions ----
+
+namespace {
+
+// Runs `events` collisions in blocks, checking every event's discs (set_check_event_discs) and
+// the whole system (validate) after each block; returns the relative change of kinetic plus
+// potential energy.
+double long_run(billiard::Simulation& sim, std::int64_t events, std::int64_t block) {
+  const double e0 = sim.kinetic_energy() + sim.potential_energy();
+  sim.set_check_event_discs(true);
+  for (std::int64_t done = 0; done < events;) {
+    const billiard::AdvanceResult result = sim.advance(std::min(block, events - done));
+    EXPECT_FALSE(result.stuck) << result.stuck_reason;
+    EXPECT_EQ(sim.last_problem(), "") << "after " << done << " collisions";
+    EXPECT_EQ(sim.validate(), "") << "after " << done << " collisions";
+    if (result.collisions == 0 || !sim.last_problem().empty()) return kNever;
+    done += result.collisions;
+  }
+  const double error = std::abs(sim.kinetic_energy() + sim.potential_energy() - e0) / std::abs(e0);
+  std::printf("relative energy error %.3g after %lld collisions\n", error, static_cast<long long>(events));
+  return error;
+}
+
+}  // namespace
+
+TEST(CurvedContainer, StressStadiumUnderGravityKeepsEnergyOverAMillionCollisions) {
+  // 100 discs of radius 0.4 in a stadium of radius 10 and length 10 under g = (0.2, -1). Energy
+  // (kinetic plus potential) changes only by rounding: about 1e-16 relative per collision as a
+  // random walk, larger under gravity because positions enter the potential energy (the gravity
+  // tests allow 1e-10 over 2e4 collisions); over 1e6 collisions we allow 1e-9.
+  billiard::Simulation sim;
+  sim.add_stadium(Vec2(0, 0), 10, 10);
+  sim.set_gravity(Vec2(0.2, -1));
+  sim.add_random_discs(100, 0.4, 1.0, 5.0, 31);
+  EXPECT_LT(long_run(sim, 1000000, 5000), 1e-9);
+}
+
+TEST(CurvedContainer, StadiumUnderGravityKeepsEnergy) {
+  // The stress test above, shorter (1e5 collisions, a second): the same bound.
+  billiard::Simulation sim;
+  sim.add_stadium(Vec2(0, 0), 10, 10);
+  sim.set_gravity(Vec2(0.2, -1));
+  sim.add_random_discs(100, 0.4, 1.0, 5.0, 35);
+  EXPECT_LT(long_run(sim, 100000, 5000), 1e-9);
+}
+
+TEST(CurvedContainer, SinaiBilliardKeepsEnergy) {
+  billiard::Simulation sim;
+  sim.add_sinai_billiard(Vec2(0, 0), Vec2(20, 20), 5);
+  sim.add_random_discs(100, 0.4, 1.0, 1.0, 32);
+  EXPECT_LT(long_run(sim, 200000, 5000), 1e-11);
+  // No disc inside the obstacle.
+  const billiard::State s = sim.current_state();
+  for (Eigen::Index i = 0; i < s.positions.rows(); ++i) {
+    EXPECT_GE((Vec2(s.positions.row(i).transpose()) - Vec2(10, 10)).norm(), 5 + 0.4 - 1e-9);
+  }
+}
+
+TEST(CurvedContainer, MushroomKeepsEnergy) {
+  billiard::Simulation sim;
+  sim.add_mushroom(Vec2(0, 0), 10, 6, 8);
+  sim.add_random_discs(100, 0.4, 1.0, 1.0, 33);
+  EXPECT_LT(long_run(sim, 200000, 5000), 1e-11);
+}
+
+TEST(CurvedContainer, UnionOfCirclesKeepsEnergy) {
+  // Three overlapping circles with a concave corner wherever two boundaries meet, and a fourth
+  // circle inside the first (no boundary of its own).
+  billiard::Simulation sim;
+  billiard::Points centres(4, 2);
+  centres << 0, 0, 12, 0, 6, 9, 1, 1;
+  sim.add_union_of_circles(centres, {8, 6, 5, 2});
+  int arcs = 0, points = 0;
+  for (const billiard::WallShape& w : sim.walls()) {
+    arcs += w.kind == billiard::WallKind::Arc ? 1 : 0;
+    points += w.kind == billiard::WallKind::Point ? 1 : 0;
+  }
+  // The boundary is one closed curve (the middle is covered): one corner where each two arcs
+  // meet, so as many point walls as arcs, and at least one arc per outer circle.
+  EXPECT_EQ(arcs, points);
+  EXPECT_GE(arcs, 3);
+  sim.add_random_discs(100, 0.3, 1.0, 1.0, 34);
+  EXPECT_LT(long_run(sim, 200000, 5000), 1e-11);
+}
+
+// ---- Inside tests and bad arguments ----
+
+TEST(CurvedContainer, InsideTestsOfTheCurvedOutlines) {
+  // A disc is accepted only inside the container and clear of its walls.
+  auto accepts = [](const std::function<void(billiard::Simulation&)>& build, const Vec2& p, double a) {
+    billiard::Simulation sim;
+    build(sim);
+    try {
+      sim.add_disc(make_disc(p, Vec2(1, 0), a));
+      return true;
+    } catch (const std::invalid_argument&) {
+      return false;
+    }
+  };
+  auto stadium = [](billiard::Simulation& sim) { sim.add_stadium(Vec2(1, 2), 3, 4); };
+  EXPECT_TRUE(accepts(stadium, Vec2(1, 2), 0.5));
+  EXPECT_TRUE(accepts(stadium, Vec2(1 + 2 + 2.4, 2), 0.5));   // in the right half circle
+  EXPECT_FALSE(accepts(stadium, Vec2(1 + 2 + 2.6, 2), 0.5));  // overlaps it
+  EXPECT_FALSE(accepts(stadium, Vec2(1 + 2 + 3.5, 2), 0.5));  // outside
+  EXPECT_FALSE(accepts(stadium, Vec2(1, 2 + 3.5), 0.5));      // above the top side
+  EXPECT_FALSE(accepts(stadium, Vec2(1 + 2 + 2.5, 2 + 2.5), 0.1));  // beyond the corner of the box of the arcs
+  auto sinai = [](billiard::Simulation& sim) { sim.add_sinai_billiard(Vec2(0, 0), Vec2(10, 10), 2); };
+  EXPECT_TRUE(accepts(sinai, Vec2(1, 1), 0.5));
+  EXPECT_FALSE(accepts(sinai, Vec2(5, 5), 0.5));  // inside the obstacle
+  EXPECT_TRUE(accepts(sinai, Vec2(5, 7.6), 0.5));
+  EXPECT_FALSE(accepts(sinai, Vec2(5, 7.4), 0.5));  // overlaps the obstacle
+  auto mushroom = [](billiard::Simulation& sim) { sim.add_mushroom(Vec2(0, 0), 5, 2, 4); };
+  EXPECT_TRUE(accepts(mushroom, Vec2(0, -3), 0.5));   // in the stem
+  EXPECT_TRUE(accepts(mushroom, Vec2(3, 0.6), 0.5));  // in the cap, above the ledge
+  EXPECT_FALSE(accepts(mushroom, Vec2(3, -1), 0.5));  // beside the stem, under the cap
+  EXPECT_TRUE(accepts(mushroom, Vec2(0, 0), 0.5));    // where the stem meets the cap
+  auto table_with_obstacle = [](billiard::Simulation& sim) {
+    sim.set_circular_table(10);
+    sim.add_disc_obstacle(Vec2(3, 0), 2);
+  };
+  EXPECT_TRUE(accepts(table_with_obstacle, Vec2(0, 0), 0.5));
+  EXPECT_TRUE(accepts(table_with_obstacle, Vec2(-8, 0), 0.5));
+  EXPECT_FALSE(accepts(table_with_obstacle, Vec2(3, 0.5), 0.5));  // inside the obstacle
+  EXPECT_FALSE(accepts(table_with_obstacle, Vec2(9.8, 0), 0.5));  // outside the table
+  billiard::Points centres(2, 2);
+  centres << 0, 0, 3, 0;
+  auto pair = [&](billiard::Simulation& sim) { sim.add_union_of_circles(centres, {2, 2}); };
+  EXPECT_TRUE(accepts(pair, Vec2(1.5, 0), 0.5));
+  EXPECT_TRUE(accepts(pair, Vec2(4, 0), 0.5));
+  EXPECT_FALSE(accepts(pair, Vec2(1.5, 1.5), 0.5));  // at the upper corner where the circles meet
+  EXPECT_FALSE(accepts(pair, Vec2(1.5, 3), 0.5));    // outside both
+}
+
+namespace {
+// Runs `call`, expects std::invalid_argument whose message contains `piece`, and the simulation's
+// walls unchanged.
+template <class Call>
+void expect_refused(billiard::Simulation& sim, Call call, const char* piece) {
+  const std::size_t walls = sim.walls().size();
+  try {
+    call();
+    ADD_FAILURE() << "no exception for " << piece;
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(piece), std::string::npos) << e.what() << " lacks " << piece;
+  }
+  EXPECT_EQ(sim.walls().size(), walls) << piece;
+}
+}  // namespace
+
+TEST(CurvedContainer, BadArgumentsAreRefusedNamingTheArgumentAndLeaveTheStateUnchanged) {
+  billiard::Simulation sim;
+  sim.add_box(Vec2(-50, -50), Vec2(50, 50));
+  sim.add_disc(make_disc(Vec2(0, 0), Vec2(1, 0), 1));
+  const double nan = std::nan("");
+  expect_refused(sim, [&] { sim.add_arc(Vec2(nan, 0), 1, 0, 1); }, "add_arc: centre");
+  expect_refused(sim, [&] { sim.add_arc(Vec2(5, 5), -1, 0, 1); }, "add_arc: radius");
+  expect_refused(sim, [&] { sim.add_arc(Vec2(5, 5), 1, kNever, 1); }, "add_arc: start_angle");
+  expect_refused(sim, [&] { sim.add_arc(Vec2(5, 5), 1, 0, nan); }, "add_arc: end_angle");
+  expect_refused(sim, [&] { sim.add_arc(Vec2(5, 5), 1, 1, 1); }, "end_angle - start_angle");
+  expect_refused(sim, [&] { sim.add_arc(Vec2(5, 5), 1, 0, 7); }, "end_angle - start_angle");
+  expect_refused(sim, [&] { sim.add_arc(Vec2(0, 1.5), 1, kPi, 2 * kPi); }, "overlaps disc 0");
+  expect_refused(sim, [&] { sim.add_disc_obstacle(Vec2(0, 0), 3); }, "add_disc_obstacle: disc 0");
+  expect_refused(sim, [&] { sim.add_disc_obstacle(Vec2(0, 0), 0); }, "add_disc_obstacle: radius");
+  expect_refused(sim, [&] { sim.add_stadium(Vec2(0, 0), 0, 1); }, "add_stadium: radius");
+  expect_refused(sim, [&] { sim.add_stadium(Vec2(0, 0), 1, -1); }, "add_stadium: length");
+  expect_refused(sim, [&] { sim.add_stadium(Vec2(0, kNever), 1, 1); }, "add_stadium: centre");
+  expect_refused(sim, [&] { sim.add_stadium(Vec2(0, 0), 0.5, 1); }, "add_stadium: disc 0");
+  expect_refused(sim, [&] { sim.add_sinai_billiard(Vec2(0, 0), Vec2(-1, 1), 0.1); }, "add_sinai_billiard: upper");
+  expect_refused(sim, [&] { sim.add_sinai_billiard(Vec2(-10, -10), Vec2(10, 10), 10); }, "add_sinai_billiard: obstacle_radius");
+  // All or nothing: the box fits around the disc, the obstacle does not; neither is added.
+  billiard::Simulation bare;
+  bare.add_disc(make_disc(Vec2(0, 0), Vec2(1, 0), 1));
+  expect_refused(bare, [&] { bare.add_sinai_billiard(Vec2(-10, -10), Vec2(10, 10), 2); }, "add_disc_obstacle: disc 0");
+  EXPECT_TRUE(bare.walls().empty());
+  expect_refused(sim, [&] { sim.add_mushroom(Vec2(0, 0), -1, 1, 1); }, "add_mushroom: cap_radius");
+  expect_refused(sim, [&] { sim.add_mushroom(Vec2(0, 0), 5, 10, 1); }, "add_mushroom: stem_width");
+  expect_refused(sim, [&] { sim.add_mushroom(Vec2(0, 0), 5, 2, 0); }, "add_mushroom: stem_height");
+  billiard::Points centres(2, 2);
+  centres << 0, 0, 3, 0;
+  expect_refused(sim, [&] { sim.add_union_of_circles(centres, {2}); }, "add_union_of_circles: radii");
+  expect_refused(sim, [&] { sim.add_union_of_circles(centres, {2, -1}); }, "add_union_of_circles: circle 1: radius");
+  expect_refused(sim, [&] { sim.add_union_of_circles(billiard::Points(0, 2), {}); }, "add_union_of_circles: centres");
+  billiard::Points twice(2, 2);
+  twice << 1, 1, 1, 1;
+  expect_refused(sim, [&] { sim.add_union_of_circles(twice, {2, 2}); }, "coincide");
+  // Periodic boxes have no walls.
+  billiard::Simulation periodic;
+  periodic.set_periodic_box(10, 10);
+  expect_refused(periodic, [&] { periodic.add_arc(Vec2(5, 5), 1, 0, 1); }, "periodic");
+  expect_refused(periodic, [&] { periodic.add_stadium(Vec2(5, 5), 1, 1); }, "periodic");
+  // The simulation still runs.
+  EXPECT_EQ(sim.advance(3).collisions, 3);
+  EXPECT_EQ(sim.validate(), "");
+}
+
+TEST(ArcWall, FreeArcsUnderGravityWithDiscsPassingTheirGaps) {
+  // A cup (lower half circle) and a dome (upper half circle) hanging in a box under gravity:
+  // discs fall into the cup through its open top, onto the dome and past the ends of both, so
+  // every kind of arc contact happens. Every event is validated; energy to 1e-10 (as the
+  // gravity tests).
+  billiard::Simulation sim;
+  sim.add_box(Vec2(-15, -15), Vec2(15, 15));
+  const int cup = sim.add_arc(Vec2(0, -4), 6, kPi, 2 * kPi);
+  const int dome = sim.add_arc(Vec2(0, 8), 4, 0, kPi);
+  sim.set_gravity(Vec2(0.1, -1));
+  sim.add_random_discs(40, 0.5, 1.0, 4.0, 36);
+  const double energy = sim.kinetic_energy() + sim.potential_energy();
+  sim.set_validate_every_event(true);
+  sim.enable_event_log(true);
+  const billiard::AdvanceResult result = sim.advance(20000);
+  EXPECT_EQ(sim.last_problem(), "");
+  EXPECT_FALSE(result.stuck) << result.stuck_reason;
+  EXPECT_EQ(result.collisions, 20000);
+  EXPECT_NEAR(sim.kinetic_energy() + sim.potential_energy(), energy, 1e-10 * std::abs(energy));
+  // Each face of each arc, and the arcs' end points, were hit.
+  int inside[2] = {0, 0}, outside[2] = {0, 0}, ends = 0;
+  for (const billiard::EventRecord& e : sim.event_log()) {
+    if (e.wall == cup || e.wall == dome) {
+      const int k = e.wall == cup ? 0 : 1;
+      const billiard::WallShape& arc = sim.walls()[static_cast<std::size_t>(e.wall)];
+      ((e.position - arc.a).norm() < arc.radius ? inside : outside)[k]++;
+    } else if (e.wall >= 0 && sim.walls()[static_cast<std::size_t>(e.wall)].kind == billiard::WallKind::Point &&
+               sim.walls()[static_cast<std::size_t>(e.wall)].a.cwiseAbs().maxCoeff() < 15) {
+      ++ends;
+    }
+  }
+  EXPECT_GT(inside[0], 0);
+  EXPECT_GT(outside[0], 0);
+  EXPECT_GT(inside[1], 0);
+  EXPECT_GT(outside[1], 0);
+  EXPECT_GT(ends, 0);
+}
+
+TEST(ArcGeometry, ArcRectangleDistanceAgreesWithDenseSampling) {
+  // Random arcs and rectangles: the distance from the points of the arc (20,000 samples) to the
+  // rectangle, against the exact formula (end points, corners, extremes, crossings). Sampling
+  // overestimates by at most half a sample spacing, radius * pi / 20000.
+  std::mt19937_64 rng(37);
+  std::uniform_real_distribution<double> u(-5, 5), angle(-kPi, kPi), sweep(0.1, 2 * kPi), size(0.2, 4);
+  const int samples = 20000;
+  for (int k = 0; k < 300; ++k) {
+    billiard::WallShape arc{billiard::WallKind::Arc, Vec2(u(rng), u(rng)), Vec2::Zero(), size(rng)};
+    arc.start_angle = angle(rng);
+    arc.sweep = k % 10 == 0 ? 2 * kPi : sweep(rng);
+    const Vec2 lo(u(rng), u(rng));
+    const Vec2 hi = lo + Vec2(size(rng), size(rng));
+    double sampled = kNever;
+    for (int s = 0; s <= samples; ++s) {
+      const Vec2 p = billiard::arc_point(arc, arc.start_angle + arc.sweep * s / samples);
+      sampled = std::min(sampled, billiard::point_rectangle_distance(p, lo, hi));
+    }
+    const double exact = billiard::arc_rectangle_distance(arc, lo, hi);
+    EXPECT_LE(exact, sampled + 1e-12) << "case " << k;
+    EXPECT_GE(exact, sampled - arc.radius * kPi / samples - 1e-12) << "case " << k;
+  }
+}
