@@ -178,10 +178,13 @@ billiard::Simulation make_system(const std::string& container, long n, double de
           if (fits(p)) points.push_back(p);
         }
       }
-      if (static_cast<long>(points.size()) >= n) break;
+      if (static_cast<long>(points.size()) >= n || spacing < 2) break;  // found, or no room at all
       spacing *= 0.995;
     }
-    if (spacing < 2) throw std::runtime_error("density too high for the lattice start");
+    if (spacing < 2) {
+      throw std::runtime_error("N = " + std::to_string(n) + " discs of radius 1 do not fit the " + container +
+                             " at area fraction " + (std::ostringstream() << density).str() + " (lattice start); use a lower --density or a larger --n");
+    }
     std::shuffle(points.begin(), points.end(), rng);
     positions.resize(n, 2);
     for (long k = 0; k < n; ++k) positions.row(k) = points[k].transpose();
@@ -189,7 +192,10 @@ billiard::Simulation make_system(const std::string& container, long n, double de
     const double side = std::sqrt(area);
     const long per_row = static_cast<long>(std::ceil(std::sqrt(static_cast<double>(n))));
     const double spacing = side / static_cast<double>(per_row);
-    if (spacing < 2.0000001) throw std::runtime_error("density too high for the lattice start");
+    if (spacing < 2.0000001) {
+      throw std::runtime_error("N = " + std::to_string(n) + " discs of radius 1 do not fit the " + container +
+                             " at area fraction " + (std::ostringstream() << density).str() + " (lattice start); use a lower --density or a larger --n");
+    }
     if (container == "periodic") {
       sim.set_periodic_box(side, side);
     } else {
@@ -248,7 +254,7 @@ void memory_probe(double megabytes) {
   std::fflush(stdout);
 }
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   std::vector<double> ns = {100, 1000, 10000, 100000, 1000000};
   std::vector<double> densities = {0.1, 0.5};
   std::vector<std::string> containers = {"box", "table"};
@@ -320,6 +326,24 @@ int main(int argc, char** argv) {
       std::cerr << "billiard_bench: --containers takes box, table, periodic, stadium and sinai, got '" << container << "'\n";
       return 2;
     }
+  }
+  // Sizes the systems can be built with: at least one disc (two for the course's table), no
+  // more than memory allows, area fractions a random start can reach.
+  auto whole_numbers_within = [](const std::vector<double>& values, double lowest, double highest) {
+    return std::all_of(values.begin(), values.end(),
+                       [&](double v) { return v >= lowest && v <= highest && v == std::floor(v); });
+  };
+  if (!whole_numbers_within(ns, 1, 1e8) || !whole_numbers_within(course_ns, 2, 1e5)) {
+    std::cerr << "billiard_bench: --n takes whole numbers from 1 to 1e8 and --course-n from 2 to 1e5\n";
+    return 2;
+  }
+  if (!std::all_of(densities.begin(), densities.end(), [](double d) { return d > 0 && d <= 0.7; })) {
+    std::cerr << "billiard_bench: --density takes area fractions above 0 and at most 0.7\n";
+    return 2;
+  }
+  if (repeats < 1 || !(events >= 1) || !(warmup >= 0)) {
+    std::cerr << "billiard_bench: --repeats and --events must be at least 1, --warmup at least 0\n";
+    return 2;
   }
   if (!memory_sizes.empty()) {
     for (double megabytes : memory_sizes) {
@@ -449,4 +473,13 @@ int main(int argc, char** argv) {
     out << "]\n";
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& error) {  // a system that cannot be built: one line, exit 2
+    std::cerr << "billiard_bench: " << error.what() << "\n";
+    return 2;
+  }
 }
