@@ -34,7 +34,7 @@
  *   5. Finally move every particle from the last collision to END_TIME.
  *
  * Build and test:  ./build.sh test -L particles   (examples with their expected outputs are in
- * tests/particles/examples/: run build/release/tasks/particles FILE END_TIME on one of them and
+ * tests/particles/examples/: run build/tasks/tasks/particles FILE END_TIME on one of them and
  * compare with its .expected file).
  */
 #include <math.h>

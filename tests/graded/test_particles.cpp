@@ -2,7 +2,7 @@
 // your program (tasks/particles.c) on one file and compares with the project's particles
 // command: positions within 1e-6, collision counts exactly, the format exactly. The files are
 // small and the tests come in the order of the steps in tasks/particles.c, so the first one that
-// fails points at the step to fix. Run one yourself: build/release/tasks/particles FILE END_TIME.
+// fails points at the step to fix. Run one yourself: build/tasks/tasks/particles FILE END_TIME.
 #include "particles_support.hpp"
 #include "support/graded.hpp"
 
