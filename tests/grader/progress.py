@@ -155,7 +155,8 @@ def next_step(progress, other_failing=(), waiting=0):
             task = item.missing
             first = f"Next: write {task_name(task)} in tasks/{TASK_FILE[task]}"
             if is_optional(task):
-                first += " (an optional extension stage: extra credit)"
+                first += " (optional: extra credit)" if task in PROGRAM_TASKS else \
+                    " (an optional extension stage: extra credit)"
         else:
             first = f"Next: {task_name(task)}, starting with its first failing test, {item.failing[0]}:"
             details = [f"  {shortened(line)}" for line in item.first_message] or ["  (its message is above)"]
