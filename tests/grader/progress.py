@@ -61,7 +61,9 @@ TASKS = [name for _, name, status in COURSE if status != "off"]           # buil
 PROGRAM_TASKS = [name for _, name, _ in COURSE if is_program_task(name)]
 TASK_FILE = {name: f"{name}.c" if name in PROGRAM_TASKS else f"{name}.cpp" for _, name, _ in COURSE}
 OPTIONAL = [name for _, name, status in COURSE if status == "optional"]   # extra credit
-STAGES = [name for number, name, status in COURSE if number > CORE_TASKS and status != "off"]
+# The extension stages, built on the core in C++ (not the program tasks such as particles).
+STAGES = [name for number, name, status in COURSE
+          if number > CORE_TASKS and status != "off" and name not in PROGRAM_TASKS]
 OFF = [name for _, name, status in COURSE if status == "off"]
 TASK_NUMBER = {name: number for number, name, _ in COURSE}
 # What a student writes in each task's file, for hints.
