@@ -511,6 +511,8 @@ def run_test(test, executable, sandbox, scratch, processes, limit, why, clock):
         "PATH": "/usr/bin:/bin", "HOME": str(work), "TMPDIR": str(work), "LANG": "C.UTF-8",
         "BILLIARD_GRADER_TOKEN": token,
     } | {name: str(path) for name, path in program_files(test.task, executable.parent).items()}
+    if test.task in PROGRAM_TASKS:  # the suite's own limit on the program then stays out of the way
+        environment["BILLIARD_TEST_TIME_LIMIT"] = f"{limit:g}"
     command = [str(executable), f"--gtest_filter={test.name}", f"--graded-result={result_file}",
                "--gtest_color=no", "--gtest_brief=0"]
     started = time.monotonic()
