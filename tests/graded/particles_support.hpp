@@ -105,7 +105,7 @@ inline void expect_same_output(const std::string& name, const std::string& input
                                         limits);
   // The untouched stub says so and exits: that is the "not implemented yet" failure of every test.
   const std::string first_error = run.err.substr(0, run.err.find('\n'));
-  if (run.status != 0 && first_error.find("is not implemented yet") != std::string::npos) {
+  if (run.status > 0 && first_error.find("is not implemented yet") != std::string::npos) {
     throw std::logic_error(first_error);
   }
   const std::string problem = run_problem(run);
