@@ -26,7 +26,7 @@ usage() {
 # Debian packages, by what needs them. Names are apt-get names: there is no PyPI here.
 # The command, its tests and the grader need these (run, grade, setup):
 packages=(
-  cmake ninja-build g++          # the build
+  cmake ninja-build g++ gcc      # the build (gcc: the C track's task, tasks/particles.c)
   libeigen3-dev                  # vectors and matrices
   libgtest-dev                   # the graded test suites
   libpugixml-dev                 # the XML under the graded suites' SVG reader

@@ -46,7 +46,7 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from progress import OFF, TASKS, TASK_FUNCTIONS, TASK_NUMBER, TaskProgress, is_optional, next_step, task_name  # noqa: F401 (OFF: for package.py)
+from progress import OFF, PROGRAM_TASKS, TASK_FILE, TASKS, TASK_FUNCTIONS, TASK_NUMBER, TaskProgress, is_optional, next_step, task_name  # noqa: F401 (OFF: for package.py)
 
 REPO = Path(__file__).resolve().parents[2]
 HIDDEN_FEEDBACK = "This test is hidden: its details are not shown."
@@ -231,7 +231,7 @@ def preprocess_as(sandbox, build, tasks, clocks):
                 if Path(entry["file"]).parent == build.submission}
     problems = {}
     for task in tasks:
-        source = build.submission / f"{task}.cpp"
+        source = build.submission / TASK_FILE[task]
         if not source.is_file():
             continue
         if source.name not in commands:  # never compile a file unchecked
@@ -258,8 +258,9 @@ def preprocess_as(sandbox, build, tasks, clocks):
                 skip = True
             else:
                 flags.append(word)
-        steps = [([words[0], *flags, "-E", source.name, "-o", "expanded.cpp"], "expanded.cpp"),
-                 ([words[0], *flags, "-c", "expanded.cpp", "-o", "expanded.o"], None)]
+        expanded = "expanded" + source.suffix  # the suffix tells the compiler the language
+        steps = [([words[0], *flags, "-E", source.name, "-o", expanded], expanded),
+                 ([words[0], *flags, "-c", expanded, "-o", "expanded.o"], None)]
         try:
             for command, product in steps:
                 limit = min(build.compile_timeout - clocks[task].spent_building, clocks[task].left)
@@ -268,7 +269,7 @@ def preprocess_as(sandbox, build, tasks, clocks):
                                                     preexec=sandbox.preexec(limit, SUBMISSION_BUILD_MEMORY))
                 clocks[task].spend(time.monotonic() - started, building=True)
                 if timed_out:
-                    problems[task] = (f"{task}.cpp does not compile: the compiler did not finish within "
+                    problems[task] = (f"{TASK_FILE[task]} does not compile: the compiler did not finish within "
                                       f"{limit:.0f} s and was stopped. A correct file compiles in a few seconds: "
                                       "does it include a file that never ends, or make the compiler work without end?")
                     break
@@ -288,18 +289,18 @@ def compile_submission(build, tasks, clocks):
     message} for those that fail."""
     problems = {}
     for task in tasks:
-        source = build.submission / f"{task}.cpp"
+        source = build.submission / TASK_FILE[task]
         if not source.is_file():
-            problems[task] = f"{task}.cpp was not submitted."
+            problems[task] = f"{TASK_FILE[task]} was not submitted."
             continue
         limit = min(build.compile_timeout - clocks[task].spent_building, clocks[task].left)
-        print(f"grade: {task_name(task)}: compiling {task}.cpp", flush=True)
+        print(f"grade: {task_name(task)}: compiling {TASK_FILE[task]}", flush=True)
         started = time.monotonic()
         ok, output, timed_out = build.build([f"submission_{task}"], timeout=limit,
                                             memory_bytes=SUBMISSION_BUILD_MEMORY)
         clocks[task].spend(time.monotonic() - started, building=True)
         if timed_out:
-            problems[task] = (f"{task}.cpp does not compile: the compiler did not finish within {limit:.0f} s "
+            problems[task] = (f"{TASK_FILE[task]} does not compile: the compiler did not finish within {limit:.0f} s "
                               "and was stopped. A correct file compiles in a few seconds: does it include a file "
                               "that never ends, or make the compiler work without end?")
         elif not ok:
@@ -310,7 +311,7 @@ def compile_submission(build, tasks, clocks):
 def does_not_compile(task, source, messages):
     """The message for a file the compiler rejects, with a hint when it is not text at all."""
     binary = b"\0" in source.read_bytes()
-    return (f"{task}.cpp does not compile" + (": it holds binary data, not C++ text. Did you submit the right file? "
+    return (f"{TASK_FILE[task]} does not compile" + (": it holds binary data, not source code. Did you submit the right file? "
                                               "The compiler says" if binary else "") + ":\n"
             + cap(messages, COMPILER_CAP // 4 if binary else COMPILER_CAP))
 
@@ -321,7 +322,7 @@ def compiler_messages(output):
     for line in output.splitlines():
         if re.match(r"\[\d+/\d+\] ", line) or line.startswith(("ninja:", "FAILED:", ": && ")):
             continue
-        if line.startswith(("/usr/bin/c++", "/usr/bin/g++", "c++ ", "g++ ")):
+        if line.startswith(("/usr/bin/c++", "/usr/bin/g++", "c++ ", "g++ ", "/usr/bin/cc ", "/usr/bin/gcc ", "cc ", "gcc ")):
             continue
         keep.append(line.replace(str(REPO) + "/", ""))
     return "\n".join(keep).strip()
@@ -489,6 +490,16 @@ SIGNAL_HINTS = {
 }
 
 
+def program_files(task, folder):
+    """For a program task (a C program graded by running it), its suite's companions in `folder`,
+    by the environment variable that tells the suite where they are: the submitted program and
+    the project's own command that gives the expected output (tests/support/program_under_test.hpp)."""
+    if task not in PROGRAM_TASKS:
+        return {}
+    return {"BILLIARD_PROGRAM_UNDER_TEST": folder / f"program_{task}",
+            "BILLIARD_EXPECTED_PROGRAM": folder / f"expected_{task}"}
+
+
 def run_test(test, executable, sandbox, scratch, processes, limit, why, clock):
     """Runs one graded test in its own process, stopped after `limit` seconds (why: see
     TaskClock.reserve), and fills in test.passed and test.feedback."""
@@ -499,7 +510,9 @@ def run_test(test, executable, sandbox, scratch, processes, limit, why, clock):
     environment = {
         "PATH": "/usr/bin:/bin", "HOME": str(work), "TMPDIR": str(work), "LANG": "C.UTF-8",
         "BILLIARD_GRADER_TOKEN": token,
-    }
+    } | {name: str(path) for name, path in program_files(test.task, executable.parent).items()}
+    if test.task in PROGRAM_TASKS:  # the suite's own limit on the program then stays out of the way
+        environment["BILLIARD_TEST_TIME_LIMIT"] = f"{limit:g}"
     command = [str(executable), f"--gtest_filter={test.name}", f"--graded-result={result_file}",
                "--gtest_color=no", "--gtest_brief=0"]
     started = time.monotonic()
@@ -550,7 +563,7 @@ def run_test(test, executable, sandbox, scratch, processes, limit, why, clock):
 def unfinished_message(clock, limit, why):
     """What a student reads about a test stopped at its time limit."""
     because = {
-        "budget": f"what was left of the {clock.budget:g} s that compiling {clock.task}.cpp and running all of "
+        "budget": f"what was left of the {clock.budget:g} s that compiling {TASK_FILE[clock.task]} and running all of "
                   f"{clock.task}'s tests may take",
         "short": f"the limit for {clock.task}'s tests once one of them did not finish within {clock.timeout:g} s",
         "each test": "the limit for each test",
@@ -561,7 +574,7 @@ def unfinished_message(clock, limit, why):
 
 
 def not_run_message(clock):
-    return (f"This test was not run: compiling {clock.task}.cpp and running {clock.task}'s tests may take "
+    return (f"This test was not run: compiling {TASK_FILE[clock.task]} and running {clock.task}'s tests may take "
             f"{clock.budget:g} s in all, and {used_up(clock)}. A correct solution needs a few seconds for all of "
             f"them. Is there an endless loop in {TASK_FUNCTIONS[clock.task]}? Once its tests finish, this one runs "
             "too.")
@@ -614,7 +627,10 @@ class ResultCache:
 
     def key(self, test, executable):
         if executable not in self.checksums:
-            self.checksums[executable] = hashlib.sha256(executable.read_bytes()).hexdigest()
+            # A program task's suite is the same for every submission: its program counts too.
+            files = [executable, *program_files(test.task, executable.parent).values()]
+            self.checksums[executable] = hashlib.sha256(b"".join(hashlib.sha256(path.read_bytes()).digest()
+                                                                 for path in files)).hexdigest()
         name = f"{self.checksums[executable]}-{test.name}-{self.timeout:g}"
         return self.folder / (hashlib.sha256(name.encode()).hexdigest() + ".json")
 
@@ -656,7 +672,7 @@ def print_table(results, verbose):
         failed = [test for test in result.tests if not test.passed and not test.not_run]
         not_run = [test for test in result.tests if test.not_run]
         if task_progress(result).missing == result.task:
-            print(f"      not implemented yet: write it in tasks/{result.task}.cpp (every test fails until then)")
+            print(f"      not implemented yet: write it in tasks/{TASK_FILE[result.task]} (every test fails until then)")
             continue
         for test in failed:
             name = "a hidden test" if test.visibility == "hidden" else test.name
@@ -768,7 +784,7 @@ def write_atomically(path, text):
 def parse_arguments(argv):
     parser = argparse.ArgumentParser(prog="grade", description=__doc__.split("\n\n")[0])
     parser.add_argument("--submission", type=Path, default=REPO / "tasks",
-                        help="folder with the task files <task>.cpp (default: tasks/)")
+                        help="folder with the task files <task>.cpp, or <task>.c for a C task (default: tasks/)")
     parser.add_argument("--results", type=Path, default=REPO / "build" / "grade" / "results",
                         help="folder for results.json and junit.xml (default: build/grade/results)")
     parser.add_argument("--build", type=Path, default=REPO / "build" / "grade" / "build",
@@ -840,11 +856,11 @@ def stage_submission(submission, grading):
     staged.mkdir(parents=True, exist_ok=True)
     problems = {}
     for task in TASKS:
-        source, target = submission / f"{task}.cpp", staged / f"{task}.cpp"
-        previous = grading / "previous" / f"{task}.cpp"  # the submitted text behind `target`
+        source, target = submission / f"{TASK_FILE[task]}", staged / f"{TASK_FILE[task]}"
+        previous = grading / "previous" / f"{TASK_FILE[task]}"  # the submitted text behind `target`
         text, problem = read_task_file(source)
         if problem:
-            problems[task] = (f"{task}.cpp {problem}, so it was not graded (0 points for this task). Submit the file "
+            problems[task] = (f"{TASK_FILE[task]} {problem}, so it was not graded (0 points for this task). Submit the file "
                               "itself.")
         if text is not None:
             if not (target.is_file() and previous.is_file() and previous.read_bytes() == text):
@@ -896,7 +912,7 @@ def grade(arguments):
           f"{'the reference code for the other tasks' if arguments.dependencies == 'reference' else 'your code for every task'}",
           flush=True)
     # A task file that was not submitted is a stub from the start (its task scores 0).
-    stubbed = [task for task in TASKS if not (staged / f"{task}.cpp").is_file()]
+    stubbed = [task for task in TASKS if not (staged / f"{TASK_FILE[task]}").is_file()]
     build.configure(stubbed=stubbed)
     build.prebuild(stubbed)
     own_build = time.monotonic() - started
@@ -937,11 +953,14 @@ def grade(arguments):
                                                  memory_bytes=SUBMISSION_BUILD_MEMORY)
         clocks[task].spend(time.monotonic() - link_started, building=True)
         if timed_out:
-            result.problem = (f"{task}.cpp compiles, but linking the suite with it did not finish within {limit:.0f} "
+            result.problem = (f"{TASK_FILE[task]} compiles, but linking the suite with it did not finish within {limit:.0f} "
                               "s. "
                               "A correct file links in about a second: does it define very large arrays?")
+        elif (not ok or not build.executable(f"grade_{task}").is_file()) and task in PROGRAM_TASKS:
+            result.problem = ("the grader could not build this task's suite (not your program's fault):\n"
+                              + cap(compiler_messages(link_output), COMPILER_CAP))
         elif not ok or not build.executable(f"grade_{task}").is_file():
-            result.problem = (f"{task}.cpp compiles, but the suite does not link with it. Does it define "
+            result.problem = (f"{TASK_FILE[task]} compiles, but the suite does not link with it. Does it define "
                               f"{TASK_FUNCTIONS[task]} exactly as lib/include/billiard/course.hpp declares it, and "
                               "nothing the other tasks define? The linker says:\n"
                               + cap(compiler_messages(link_output), COMPILER_CAP))
@@ -960,6 +979,11 @@ def grade(arguments):
             suites[result.task] = scratch / f"grade_{result.task}"
             shutil.copyfile(build.executable(f"grade_{result.task}"), suites[result.task])
             os.chmod(suites[result.task], 0o755)
+            built = {"BILLIARD_PROGRAM_UNDER_TEST": build.executable(f"submission_{result.task}"),
+                     "BILLIARD_EXPECTED_PROGRAM": build.folder / result.task}
+            for name, copy in program_files(result.task, scratch).items():
+                shutil.copyfile(built[name], copy)
+                os.chmod(copy, 0o755)
     jobs = [(test, suites[test.task]) for result in results for test in result.tests]
     cache = ResultCache(arguments.cache, arguments.timeout) if arguments.cache else None
     if cache:

@@ -20,8 +20,17 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 COURSE_FILE = Path(__file__).resolve().parent / "course.txt"
+TASKS_FOLDER = Path(__file__).resolve().parents[2] / "tasks"
 STATUSES = ("required", "optional", "off")
-CORE_TASKS = 6  # tasks 1-6 are the course's core: always required
+# Tasks 1-6 are the course's core: the `billiard` command, the Python module and the extension
+# stages are built on them, so they stay required, unless the course is the C track alone (every
+# task in C++ off, the program tasks such as particles on).
+CORE_TASKS = 6
+
+
+def is_program_task(name):
+    """A task written in C as a whole program (tasks/<name>.c), graded by running it."""
+    return (TASKS_FOLDER / f"{name}.c").is_file()
 
 
 def read_course(path=COURSE_FILE):
@@ -36,17 +45,25 @@ def read_course(path=COURSE_FILE):
         number, name, status = int(words[0]), words[1], words[2]
         if number != len(course) + 1:
             raise ValueError(f"{path.name} line {line_number}: task {number} should be task {len(course) + 1}")
-        if number <= CORE_TASKS and status != "required":
-            raise ValueError(f"{path.name} line {line_number}: task {number} ({name}) is one of the six "
-                             f"core tasks and must stay required")
-        course.append((number, name, status))
-    return course
+        course.append((number, name, status, line_number))
+    c_track_alone = all(status == "off" for _, name, status, _ in course if not is_program_task(name))
+    for number, name, status, line_number in course:
+        if number <= CORE_TASKS and status != "required" and not c_track_alone:
+            raise ValueError(f"{path.name} line {line_number}: task {number} ({name}) is one of the six core tasks "
+                             "and must stay required (unless every C++ task is off: the C track alone)")
+    return [(number, name, status) for number, name, status, _ in course]
 
 
 COURSE = read_course()
 TASKS = [name for _, name, status in COURSE if status != "off"]           # built and graded
+# Each task's file: <task>.cpp (functions linked with its graded suite), or <task>.c for a
+# program task (a whole C program with main(), graded by running it; see tests/CMakeLists.txt).
+PROGRAM_TASKS = [name for _, name, _ in COURSE if is_program_task(name)]
+TASK_FILE = {name: f"{name}.c" if name in PROGRAM_TASKS else f"{name}.cpp" for _, name, _ in COURSE}
 OPTIONAL = [name for _, name, status in COURSE if status == "optional"]   # extra credit
-STAGES = [name for number, name, status in COURSE if number > CORE_TASKS and status != "off"]
+# The extension stages, built on the core in C++ (not the program tasks such as particles).
+STAGES = [name for number, name, status in COURSE
+          if number > CORE_TASKS and status != "off" and name not in PROGRAM_TASKS]
 OFF = [name for _, name, status in COURSE if status == "off"]
 TASK_NUMBER = {name: number for number, name, _ in COURSE}
 # What a student writes in each task's file, for hints.
@@ -55,7 +72,7 @@ TASK_FUNCTIONS = {task: task for task in TASKS} | {
     "gravity": "propagate_gravity or mean_energy",
     "walls": "propagate_walls",
     "sectors": "propagate_sectors",
-}
+} | {task: "main (the whole program)" for task in PROGRAM_TASKS}
 # The course's error for a task that is not written yet (lib/src/course/not_implemented.cpp).
 NOT_WRITTEN = re.compile(r"task (\d+) \(\w+\) is not implemented yet")
 # The lines of a graded test's message for students (tests/support/student_messages.hpp).
@@ -135,16 +152,17 @@ def next_step(progress, other_failing=(), waiting=0):
             continue
         task = item.task
         if item.problem:
-            first = f"Next: {task_name(task)} does not build: fix the first error above in tasks/{task}.cpp"
+            first = f"Next: {task_name(task)} does not build: fix the first error above in tasks/{TASK_FILE[task]}"
         elif item.missing:
             task = item.missing
-            first = f"Next: write {task_name(task)} in tasks/{task}.cpp"
+            first = f"Next: write {task_name(task)} in tasks/{TASK_FILE[task]}"
             if is_optional(task):
-                first += " (an optional extension stage: extra credit)"
+                first += " (optional: extra credit)" if task in PROGRAM_TASKS else \
+                    " (an optional extension stage: extra credit)"
         else:
             first = f"Next: {task_name(task)}, starting with its first failing test, {item.failing[0]}:"
             details = [f"  {shortened(line)}" for line in item.first_message] or ["  (its message is above)"]
-            return [first, *details, f"  Fix tasks/{task}.cpp, then run: {run_command(task)}"]
+            return [first, *details, f"  Fix tasks/{TASK_FILE[task]}, then run: {run_command(task)}"]
         return [first, f"  then run: {run_command(task)}"]
     if other_failing:
         return [f"Next: every task that ran passes, but {len(other_failing)} other test(s) fail; start with "

@@ -35,6 +35,7 @@ sys.path.insert(0, str(HERE))
 import package  # noqa: E402  (the script under test, for its lists of tasks and exclusions)
 
 TASKS = package.TASKS
+TASK_FILE = package.grade.TASK_FILE  # <task>.cpp, or <task>.c for a C task
 TESTS = None  # the build's tests/ folder, from the command line
 WORK = None   # TESTS / "package-tests"
 
@@ -179,6 +180,73 @@ class StagesOff(unittest.TestCase):
             shutil.rmtree(folder)
 
 
+def c_track_alone():
+    """A copy of the project whose course.txt keeps only the C track: every C++ task off, particles
+    required (what an instructor teaching the box assignment sets)."""
+    copy = fresh(WORK / "c-track-alone" / "project")
+    for relative in package.project_files():
+        (copy / relative).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(REPO / relative, copy / relative)
+    course = copy / "tests" / "grader" / "course.txt"
+    course.write_text(re.sub(r"^(\d+) (\w+) \w+$",
+                             lambda line: f"{line[1]} {line[2]} {'required' if line[2] == 'particles' else 'off'}",
+                             course.read_text(), flags=re.MULTILINE))
+    return copy
+
+
+class CTrackAlone(unittest.TestCase):
+    def test_grader_release_and_classroom_grade_only_particles(self):
+        """The C track alone: the grader gives the reference full marks and the stub 0 for particles
+        alone (as the required total), the student release carries the C task and none of the C++
+        ones and grades its stub as 0, and the Classroom workflow has the one step."""
+        project = c_track_alone()
+        work = project.parent
+
+        def grade(repository, submission, name):
+            status, output = run(["/usr/bin/python3", str(repository / "tests" / "grader" / "grade.py"),
+                                  "--submission", str(submission), "--build", str(work / name / "build"),
+                                  "--results", str(work / name / "results"), "--brief"])
+            self.assertEqual(status, 0, output)
+            report = json.loads((work / name / "results" / "results.json").read_text())
+            self.assertEqual({test["name"].split(":")[0] for test in report["tests"]}, {"particles"}, output)
+            return report, output
+
+        report, output = grade(project, project / "solutions", "solutions")
+        maximum = sum(test["max_score"] for test in report["tests"])
+        self.assertEqual(report["score"], maximum)
+        self.assertRegex(output, rf"total +{maximum} / {maximum}\n", "particles counts in the total")
+        report, output = grade(project, project / "tasks", "stubs")
+        self.assertEqual(report["score"], 0)
+        self.assertIn("not implemented yet: write it in tasks/particles.c", output)
+
+        status, output = run(["/usr/bin/python3", str(project / "tests" / "grader" / "package.py"), "classroom",
+                              "--tests", str(work / "solutions" / "build" / "tests")], cwd=project)
+        workflow = yaml.safe_load((project / package.WORKFLOW).read_text()) if status == 0 else None
+        if status != 0:  # the graded suite itself is built on demand
+            run(["cmake", "--build", str(work / "solutions" / "build"), "--target", "test_particles"])
+            status, output = run(["/usr/bin/python3", str(project / "tests" / "grader" / "package.py"), "classroom",
+                                  "--tests", str(work / "solutions" / "build" / "tests")], cwd=project)
+            self.assertEqual(status, 0, output)
+            workflow = yaml.safe_load((project / package.WORKFLOW).read_text())
+        steps = [step["name"] for step in workflow["jobs"]["run-autograding-tests"]["steps"]]
+        self.assertEqual(steps, ["Checkout code", "Task 10 particles", "Autograding Reporter"])
+
+        release = work / "release"
+        shutil.rmtree(release, ignore_errors=True)
+        status, output = run(["/usr/bin/python3", str(project / "tests" / "grader" / "package.py"), "student-release",
+                              str(release), "--no-git"])
+        self.assertEqual(status, 0, output)
+        self.assertTrue((release / "tasks" / "particles.c").is_file())
+        self.assertTrue((release / "tests" / "graded" / "test_particles.cpp").is_file())
+        self.assertTrue((release / "tests" / "particles" / "examples" / "three.expected").is_file())
+        for gone in ["tasks/propagate.cpp", "tests/graded/test_propagate.cpp", "solutions",
+                     "tests/graded/hidden", "tests/mutants"]:
+            self.assertFalse((release / gone).exists(), gone)
+        report, output = grade(release, release / "tasks", "release")
+        self.assertEqual(report["score"], 0)
+        self.assertIn("not implemented yet", output)
+
+
 class StudentLoop(unittest.TestCase):
     """The release as a student uses it: the first test run on the stubs, the edit-and-test loop of
     one task, the run once every task is written, and every command and path its README names."""
@@ -214,7 +282,7 @@ class StudentLoop(unittest.TestCase):
             # Every task written (the reference code): the tests that use the tasks pass, and the
             # block says so. (The first run above already ran the tests that do not use them.)
             for task in TASKS:
-                shutil.copyfile(REPO / "solutions" / f"{task}.cpp", folder / "tasks" / f"{task}.cpp")
+                shutil.copyfile(REPO / "solutions" / TASK_FILE[task], folder / "tasks" / TASK_FILE[task])
             status, output = run(["./build.sh", "test", "-L", "graded|cli|notebooks|python"], cwd=folder, env=env)
             self.assertEqual(status, 0, output[-5000:])
             self.assertTrue(output.rstrip().endswith("Next: nothing; every test passed. Well done."), output[-2000:])
@@ -225,7 +293,7 @@ class StudentLoop(unittest.TestCase):
             self.assertEqual(status, 0, output[-8000:])
         finally:
             for task in TASKS:
-                shutil.copyfile(REPO / "tasks" / f"{task}.cpp", folder / "tasks" / f"{task}.cpp")
+                shutil.copyfile(REPO / "tasks" / TASK_FILE[task], folder / "tasks" / TASK_FILE[task])
 
 
 class ProjectCI(unittest.TestCase):
@@ -288,12 +356,12 @@ class Classroom(unittest.TestCase):
         solved = {"visualize_table", "kinetic_energy"}
         try:
             for task in TASKS:
-                source = REPO / ("solutions" if task in solved else "tasks") / f"{task}.cpp"
-                shutil.copyfile(source, folder / "tasks" / f"{task}.cpp")
+                source = REPO / ("solutions" if task in solved else "tasks") / TASK_FILE[task]
+                shutil.copyfile(source, folder / "tasks" / TASK_FILE[task])
             self.assertEqual(self.run_steps(folder, graders), [0 if task in solved else 1 for task in TASKS])
         finally:
             for task in TASKS:
-                shutil.copyfile(REPO / "tasks" / f"{task}.cpp", folder / "tasks" / f"{task}.cpp")
+                shutil.copyfile(REPO / "tasks" / TASK_FILE[task], folder / "tasks" / TASK_FILE[task])
 
 
 def unzip(archive_path, folder):
@@ -309,11 +377,12 @@ def unzip(archive_path, folder):
 
 
 def endless_loops(task):
-    """The stub of a task (tasks/<task>.cpp) with each `throw` replaced by an endless loop."""
-    stub = (REPO / "tasks" / f"{task}.cpp").read_text()
-    looping, count = re.subn(r"throw NotImplemented\([^;]*\);", "for (volatile unsigned spin = 0;; spin = spin + 1) {}",
-                             stub)
-    assert count >= 1, f"tasks/{task}.cpp has no `throw NotImplemented(...)` to replace"
+    """The stub of a task (tasks/<task>.cpp) with each `throw` replaced by an endless loop (for a C
+    task, the stub's `exit(1)` after its "not implemented yet")."""
+    stub = (REPO / "tasks" / TASK_FILE[task]).read_text()
+    unwritten = r"exit\(1\);" if task in package.grade.PROGRAM_TASKS else r"throw NotImplemented\([^;]*\);"
+    looping, count = re.subn(unwritten, "for (volatile unsigned spin = 0;; spin = spin + 1) {}", stub)
+    assert count >= 1, f"tasks/{TASK_FILE[task]} has no `throw NotImplemented(...)` to replace"
     return looping
 
 
@@ -366,7 +435,7 @@ class Gradescope(unittest.TestCase):
         root = self.autograder()
         limit = 300
         started = time.monotonic()
-        report, output = self.run_autograder(root, {f"tasks/{task}.cpp": endless_loops(task) for task in TASKS},
+        report, output = self.run_autograder(root, {f"tasks/{TASK_FILE[task]}": endless_loops(task) for task in TASKS},
                                              one_core=True)
         elapsed = time.monotonic() - started
         print(f"every task looping, on one core: {elapsed:.0f} s (bound "
@@ -378,7 +447,7 @@ class Gradescope(unittest.TestCase):
             self.assertTrue(outputs and all("did not finish" in text or "not run" in text for text in outputs),
                             f"{task}: {outputs}")
 
-        files = {f"tasks/{task}.cpp": (REPO / "solutions" / f"{task}.cpp").read_text() for task in TASKS}
+        files = {f"tasks/{TASK_FILE[task]}": (REPO / "solutions" / TASK_FILE[task]).read_text() for task in TASKS}
         files["tasks/propagate.cpp"] = endless_loops("propagate")
         started = time.monotonic()
         report, output = self.run_autograder(root, files, one_core=True)
@@ -405,7 +474,7 @@ class Gradescope(unittest.TestCase):
 
         # The files in a folder, with a broken propagate, a stray copy of a task file nearer the
         # top, and other files that must be ignored.
-        files = {f"billiard-main/tasks/{task}.cpp": (REPO / "solutions" / f"{task}.cpp").read_text() for task in TASKS}
+        files = {f"billiard-main/tasks/{TASK_FILE[task]}": (REPO / "solutions" / TASK_FILE[task]).read_text() for task in TASKS}
         files["billiard-main/tasks/propagate.cpp"] = broken_propagate()
         # Including the reference solution does not work (the solutions are protected).
         files["billiard-main/tasks/init_velocities.cpp"] = f'#include "{root}/source/solutions/init_velocities.cpp"\n'

@@ -136,12 +136,26 @@ class Course(unittest.TestCase):
     def test_the_committed_course_has_the_six_tasks_first_then_the_stages(self):
         names = [name for _, name, _ in progress.COURSE]
         self.assertEqual(names, ["init_billiard", "init_velocities", "visualize_table", "propagate", "movie",
-                                 "kinetic_energy", "gravity", "walls", "sectors"])
+                                 "kinetic_energy", "gravity", "walls", "sectors", "particles"])
+        self.assertEqual(progress.PROGRAM_TASKS, ["particles"])
+        self.assertEqual(progress.TASK_FILE["particles"], "particles.c")
+        self.assertEqual(progress.TASK_FILE["propagate"], "propagate.cpp")
         self.assertEqual(progress.TASKS, [name for _, name, status in progress.COURSE if status != "off"])
 
     def test_comments_blank_lines_and_statuses(self):
         course = self.read("# a comment\n\n" + self.core() + "7 gravity optional\n8 walls off\n9 sectors required\n")
         self.assertEqual(course[6:], [(7, "gravity", "optional"), (8, "walls", "off"), (9, "sectors", "required")])
+
+    def test_the_c_track_alone_switches_every_cpp_task_off(self):
+        names = [name for _, name, _ in progress.COURSE]
+        c_track = "".join(f"{n} {name} {'required' if name == 'particles' else 'off'}\n"
+                          for n, name in enumerate(names, start=1))
+        self.assertEqual([(name, status) for _, name, status in self.read(c_track) if status != "off"],
+                         [("particles", "required")])
+        # A C++ task left on needs the core: then the six core tasks stay required.
+        with self.assertRaises(ValueError) as raised:
+            self.read(c_track.replace("8 walls off", "8 walls optional"))
+        self.assertIn("must stay required", str(raised.exception))
 
     def test_bad_lines_are_named(self):
         for text, words in [(self.core() + "7 gravity maybe\n", "line 7"),

@@ -39,6 +39,7 @@ import test_grader  # noqa: E402  (grading a submission folder, reading grade.py
 import test_packages  # noqa: E402  (scores from a results.json)
 
 TASKS = package.TASKS
+TASK_FILE = package.grade.TASK_FILE  # <task>.cpp, or <task>.c for a C task
 CAP = package.SUBMITTED_FILE_CAP
 SECRET = b"SECRET-OUTSIDE-THE-UPLOAD"  # in every file outside the upload that a link points to
 CASE_SECONDS = 20  # the most one upload may take to look through (they take well under a second)
@@ -46,11 +47,11 @@ BUILD = None  # set from the command line
 
 
 def stub(task):
-    return (REPO / "tasks" / f"{task}.cpp").read_bytes()
+    return (REPO / "tasks" / TASK_FILE[task]).read_bytes()
 
 
 def solution(task):
-    return (REPO / "solutions" / f"{task}.cpp").read_bytes()
+    return (REPO / "solutions" / TASK_FILE[task]).read_bytes()
 
 
 def files_under(folder):
@@ -124,7 +125,7 @@ class Upload:
     def add_file(self):
         task = self.rng.choice(TASKS)
         where, looked_at = self.folder_name()
-        path = self.folder / where / f"{task}.cpp"
+        path = self.folder / where / TASK_FILE[task]
         if path.parent.is_symlink() or path.exists():
             return
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -148,7 +149,7 @@ class Upload:
 
     def add_folder(self):
         task = self.rng.choice(TASKS)
-        path = self.folder / f"{task}.cpp"
+        path = self.folder / TASK_FILE[task]
         if path.exists() or path.is_symlink():
             return
         path.mkdir()
@@ -156,14 +157,14 @@ class Upload:
         self.reasons[task].add(grade.FOLDER)
         if self.rng.random() < 0.3:  # with the task's file inside: that one counts
             data = self.content(task)
-            (path / f"{task}.cpp").write_bytes(data)
+            (path / TASK_FILE[task]).write_bytes(data)
             self.allowed[task].add(data)
             self.must_find.add(task)
 
     def add_link(self):
         task = self.rng.choice(TASKS)
         where, looked_at = self.folder_name()
-        path = self.folder / where / f"{task}.cpp"
+        path = self.folder / where / TASK_FILE[task]
         if path.exists() or path.is_symlink() or path.parent.is_symlink():
             return
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -191,7 +192,7 @@ class Upload:
     def add_special(self):
         kind = self.rng.choice(["fifo", "fifo archive", "socket"])
         task = self.rng.choice(TASKS)
-        path = self.folder / (f"{task}.cpp" if kind != "fifo archive" else "handin.zip")
+        path = self.folder / (TASK_FILE[task] if kind != "fifo archive" else "handin.zip")
         if path.exists() or path.is_symlink():
             return
         self.count(kind)
@@ -220,7 +221,7 @@ class Upload:
             task = self.rng.choice(TASKS)
             prefix = self.rng.choice(["", "tasks/", "handin/tasks/", "../", "../../", "/", "./", "tasks\\",
                                       ".git/", "__MACOSX/", "._", "x\ny/", "ü/"])
-            name = f"{prefix}{task}.cpp"
+            name = f"{prefix}{TASK_FILE[task]}"
             kind = self.rng.choice(["file"] * 6 + ["dir", "link", "huge", "special", "other"])
             if kind == "other":
                 name = self.rng.choice(["README.md", "../../etc/cron.d/evil", "/tmp/evil", "a" * 300])
@@ -230,7 +231,7 @@ class Upload:
     def expect_entry(self, name, kind, data, intact):
         parts = [part for part in name.replace("\\", "/").split("/") if part]
         ignored = any(part.startswith(("__MACOSX", "._")) for part in parts)
-        task = parts[-1][:-4] if parts and parts[-1].endswith(".cpp") and parts[-1][:-4] in TASKS else None
+        task = next((task for task in TASKS if parts and parts[-1] == TASK_FILE[task]), None)
         self.count(f"archive entry: {kind}")
         if task is None or ignored:
             return
@@ -330,7 +331,7 @@ def outside_folder(base):
     outside.mkdir()
     (outside / "secret.cpp").write_bytes(SECRET + b"\n")
     for task in TASKS:
-        (outside / f"{task}.cpp").write_bytes(SECRET + f" {task}\n".encode())
+        (outside / TASK_FILE[task]).write_bytes(SECRET + f" {task}\n".encode())
     return outside
 
 
@@ -343,14 +344,14 @@ class FindTaskFiles(unittest.TestCase):
         found, notes = package.find_task_files(places, destination)
         seconds = time.monotonic() - started
         self.assertLess(seconds, CASE_SECONDS)
-        self.assertEqual(files_under(base), sorted(before + ["found"] + [f"found/{t}.cpp" for t in TASKS]),
+        self.assertEqual(files_under(base), sorted(before + ["found"] + [f"found/{TASK_FILE[t]}" for t in TASKS]),
                          "nothing is written outside the destination")
         for line in notes:
             self.assertNotIn("\n", line)
             line.encode("utf-8")  # printable: no undecodable bytes left in names
         report = "\n".join(notes)
         for task in TASKS:
-            graded = destination / f"{task}.cpp"
+            graded = destination / TASK_FILE[task]
             self.assertTrue(stat.S_ISREG(graded.lstat().st_mode))
             data = graded.read_bytes()
             self.assertNotIn(SECRET, data, f"{task}: read through a link out of the upload\n{report}")
@@ -360,12 +361,12 @@ class FindTaskFiles(unittest.TestCase):
             else:
                 self.assertEqual(data, stub(task))
                 stubbed = "graded as not implemented (0 points)"
-                self.assertTrue(any(line.startswith(f"  {task}.cpp: ") and line.endswith(stubbed) for line in notes),
+                self.assertTrue(any(line.startswith(f"  {TASK_FILE[task]}: ") and line.endswith(stubbed) for line in notes),
                                 report)
             if task in upload.must_find:
                 self.assertIn(task, found, f"{task}: an ordinary file was uploaded but not found\n{report}")
             for reason in upload.reasons[task]:
-                self.assertTrue(any(line.strip().startswith("not graded:") and f"{task}.cpp" in line and reason in line
+                self.assertTrue(any(line.strip().startswith("not graded:") and TASK_FILE[task] in line and reason in line
                                     for line in notes), f"{task}: the notes must say '{reason}'\n{report}")
         return seconds
 
@@ -444,7 +445,7 @@ class StageSubmission(unittest.TestCase):
     def make(self, rng, folder, outside, task, kind):
         """Puts a task file of this kind into the folder; returns the content to grade, or the
         reason it cannot be graded (None: missing)."""
-        path = folder / f"{task}.cpp"
+        path = folder / TASK_FILE[task]
         links = {"link to a secret file": outside / "secret.cpp", "link to /etc/passwd": "/etc/passwd",
                  "link to a folder": outside, "dangling link": outside / "nothing", "link loop": path,
                  "link to /dev/zero": "/dev/zero", "link to /dev/stdin": "/dev/stdin",
@@ -457,7 +458,7 @@ class StageSubmission(unittest.TestCase):
         if kind.startswith("folder"):
             path.mkdir()
             if kind == "folder with the file":
-                (path / f"{task}.cpp").write_bytes(solution(task))
+                (path / TASK_FILE[task]).write_bytes(solution(task))
             return grade.FOLDER
         if kind == "fifo":
             os.mkfifo(path)
@@ -496,7 +497,7 @@ class StageSubmission(unittest.TestCase):
                     staged, problems = grade.stage_submission(folder, grading)
                 slowest = max(slowest, time.monotonic() - started)
                 for task in TASKS:
-                    target = staged / f"{task}.cpp"
+                    target = staged / TASK_FILE[task]
                     if isinstance(expected[task], bytes):
                         self.assertEqual(target.read_bytes(), expected[task], f"case {case}: {task}")
                         self.assertNotIn(task, problems)
@@ -625,7 +626,7 @@ class EndToEnd(unittest.TestCase):
         submission = test_grader.submission_from_solutions()
         try:
             for task in ["init_billiard", "init_velocities", "visualize_table", "propagate"]:
-                (submission / f"{task}.cpp").unlink()
+                (submission / TASK_FILE[task]).unlink()
             os.symlink(REPO / "solutions" / "init_billiard.cpp", submission / "init_billiard.cpp")
             (submission / "init_velocities.cpp").mkdir()
             (submission / "init_velocities.cpp" / "init_velocities.cpp").write_bytes(solution("init_velocities"))
