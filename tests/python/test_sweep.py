@@ -104,6 +104,20 @@ def test_default_local_cluster_gives_the_serial_numbers(serial):
     assert_same_numbers(parallel, expected)
 
 
+def worker_housekeeping():
+    import dask
+    return {key: dask.config.get(key) for key in billiard._sweep.LOCAL_CLUSTER_CONFIG}
+
+
+def test_local_client_relaxes_housekeeping_in_its_workers_only():
+    before = worker_housekeeping()
+    with billiard.local_client(1) as client:
+        seen = client.run(worker_housekeeping)
+    assert list(seen.values()) == [billiard._sweep.LOCAL_CLUSTER_CONFIG], "the worker did not take the settings"
+    assert worker_housekeeping() == before, "the calling process's Dask configuration changed"
+    assert before["distributed.worker.profile.enabled"] is True  # Dask's default: the test can tell
+
+
 def test_failed_run_is_reported_with_its_parameters(client, capsys):
     records = billiard.sweep(failing_run, GRID, seeds=SEEDS, client=client, as_frame=False)
     failed = [r for r in records if r["error"] is not None]

@@ -28,6 +28,16 @@ CONNECT_TIMEOUT = "10s"
 # Dask is needed only when sweep runs on workers; without it, this says what to install.
 NO_DASK = ("billiard.sweep needs Dask: install Debian's python3-dask and python3-distributed "
            "(or pass workers=0 to run in this process)")
+# The local cluster's housekeeping, relaxed: runs hold Python's lock for a second or more at a
+# time, so the workers' statistical profiler (every 10 ms) samples nothing of use, and it, the
+# 20 ms tick and the memory monitor only wake up on cores the runs need. A client passed to
+# sweep keeps its own settings.
+LOCAL_CLUSTER_CONFIG = {
+    "distributed.worker.profile.enabled": False,
+    "distributed.admin.tick.interval": "1s",
+    "distributed.worker.memory.monitor-interval": "1s",
+    "distributed.admin.system-monitor.interval": "5s",
+}
 # The progress line is rewritten at most this often (seconds), so that a notebook's output stays small.
 PROGRESS_INTERVAL = 0.5
 
@@ -326,12 +336,15 @@ def local_client(workers=None):
     _refuse_inside_worker_start()
     _refuse_unguarded_script()
     try:
+        import dask
         from distributed import Client
     except ImportError:
         raise ImportError(NO_DASK) from None
-    # A Client given no address starts its own LocalCluster and closes it with itself.
-    return Client(n_workers=workers or _usable_cores(), threads_per_worker=1, processes=True,
-                  dashboard_address=":0", silence_logs=logging.ERROR)  # any free port: never a clash
+    # A Client given no address starts its own LocalCluster and closes it with itself; the
+    # scheduler and the worker processes take the configuration in force when they start.
+    with dask.config.set(LOCAL_CLUSTER_CONFIG):
+        return Client(n_workers=workers or _usable_cores(), threads_per_worker=1, processes=True,
+                      dashboard_address=":0", silence_logs=logging.ERROR)  # any free port: never a clash
 
 
 def _usable_cores():
