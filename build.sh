@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The project's commands (see README.md; run and test are the quick start's two):
 #   ./build.sh run  [TABLE_RADIUS CIRCLE_RADIUS N] [billiard options]   build, then run `billiard`
+#                   (in a course of the C track alone: [FILE END_TIME], run `particles`)
 #   ./build.sh test [ctest options]                                     build, then run every test
 #   ./build.sh python                       build the Python module `billiard` and make Debian's
 #                                           /usr/bin/python3 import it (for the notebooks)
@@ -145,10 +146,19 @@ command=${1:-}
 case "$command" in
   run)
     install_missing_packages
-    build billiard
+    configure
     dir=build/$BILLIARD_PRESET
-    if [ $# -eq 0 ]; then set -- 10 1 10; fi
-    exec "$dir/billiard" --output build/output "$@"
+    if ninja -C "$dir" -t query billiard >/dev/null 2>&1; then
+      build_targets billiard
+      if [ $# -eq 0 ]; then set -- 10 1 10; fi
+      exec "$dir/billiard" --output build/output "$@"
+    fi
+    # The C track alone (every C++ task off in tests/grader/course.txt) has no `billiard`: run
+    # the course's C program instead, by default on the example the README shows.
+    course=$(sed -n 's/^BILLIARD_COURSE:[A-Z]*=//p' "$dir/CMakeCache.txt")
+    build_targets "billiard_${course}_particles"
+    if [ $# -eq 0 ]; then set -- tests/particles/examples/three.txt 4; fi
+    exec "$dir/$course/particles" "$@"
     ;;
   test)
     install_missing_packages "${python_packages[@]}"

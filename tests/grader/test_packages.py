@@ -198,7 +198,8 @@ class CTrackAlone(unittest.TestCase):
     def test_grader_release_and_classroom_grade_only_particles(self):
         """The C track alone: the grader gives the reference full marks and the stub 0 for particles
         alone (as the required total), the student release carries the C task and none of the C++
-        ones and grades its stub as 0, and the Classroom workflow has the one step."""
+        ones and grades its stub as 0, its `./build.sh run` runs the C program, and the Classroom
+        workflow has the one step."""
         project = c_track_alone()
         work = project.parent
 
@@ -245,6 +246,17 @@ class CTrackAlone(unittest.TestCase):
         report, output = grade(release, release / "tasks", "release")
         self.assertEqual(report["score"], 0)
         self.assertIn("not implemented yet", output)
+
+        # The student's first command: with no `billiard` in this course, it builds the C program
+        # and runs it on the README's example (the stub says what to write).
+        status, output = run(["./build.sh", "run"], cwd=release)
+        self.assertEqual(status, 1, output)
+        self.assertIn("task 10 (particles) is not implemented yet: write it in tasks/particles.c", output)
+        shutil.copyfile(REPO / "solutions" / "particles.c", release / "tasks" / "particles.c")
+        status, output = run(["./build.sh", "run"], cwd=release)
+        self.assertEqual(status, 0, output)
+        expected = (release / "tests" / "particles" / "examples" / "three.expected").read_text()
+        self.assertTrue(output.endswith(expected), f"expected the lines of three.expected at the end:\n{output}")
 
 
 class StudentLoop(unittest.TestCase):
