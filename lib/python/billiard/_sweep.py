@@ -28,8 +28,8 @@ CONNECT_TIMEOUT = "10s"
 # Dask is needed only when sweep runs on workers; without it, this says what to install.
 NO_DASK = ("billiard.sweep needs Dask: install Debian's python3-dask and python3-distributed "
            "(or pass workers=0 to run in this process)")
-# The local cluster's housekeeping, relaxed: runs hold Python's lock for a second or more at a
-# time, so the workers' statistical profiler (every 10 ms) samples nothing of use, and it, the
+# The local cluster's housekeeping, relaxed: a run holds Python's lock through each engine
+# call, so the workers' statistical profiler (every 10 ms) samples nothing of use, and it, the
 # 20 ms tick and the memory monitor only wake up on cores the runs need. A client passed to
 # sweep keeps its own settings.
 LOCAL_CLUSTER_CONFIG = {
