@@ -4,20 +4,20 @@ extension stages that are not switched off) and writes what the grading platform
 
     /usr/bin/python3 tests/grader/grade.py [--submission DIR] [--results DIR] [options]
 
-For each task it compiles the submitted file on its own (a file that does not compile scores 0
-for its task, with the compiler's message as feedback), links the task's graded suite with it
-(and, where the reference solutions exist, with the reference code of the other tasks, so a
-mistake in one task cannot cost points in another), then runs every graded test in its own
+For each task it compiles the submitted file on its own, once (a file that does not compile
+scores 0 for its task, with the compiler's message as feedback), links the task's graded suite
+with it (and, where the reference solutions exist, with the reference code of the other tasks,
+so a mistake in one task cannot cost points in another), then runs every graded test in its own
 process with a time limit, an output cap, resource limits and, when run as root, as an
 unprivileged user. A test earns its points only if the suite's own main() reports it passed
 with a secret token given to that process alone: an early exit(0), a crash, a hang or forged
 output earns nothing.
 
-Each task has a time budget (--task-budget): compiling its file, linking its suite and running
-its tests may take that long in all. Once one of its tests does not finish within --timeout, its
-other tests get --short-timeout each, and when the budget is used up its remaining tests fail
-without running. So a submission, however it misbehaves, is graded within the grader's own build
-plus one budget per task, and only the misbehaving task loses points.
+The time limits follow the machine where the reference solutions exist (time_limits.py: ten
+times what the reference needs here, measured once per build folder); otherwise they are fixed
+(--timeout, --task-budget). Either way each task has a budget for compiling its file, linking its
+suite and running its tests, so a submission, however it misbehaves, is graded within the
+grader's own build plus the sum of the budgets, and only the misbehaving task loses points.
 
 Prints a table (task, points / maximum, and each failing test's message and hint), and writes
 results.json (Gradescope's format) and junit.xml into --results. Exit status 0 when grading
@@ -29,11 +29,14 @@ import concurrent.futures
 import ctypes
 import hashlib
 import json
+import math
 import os
 import pwd
 import re
 import resource
 import secrets
+import select
+import shlex
 import shutil
 import signal
 import stat
@@ -47,6 +50,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from progress import OFF, PROGRAM_TASKS, TASK_FILE, TASKS, TASK_FUNCTIONS, TASK_NUMBER, TaskProgress, is_optional, next_step, task_name  # noqa: F401 (OFF: for package.py)
+import time_limits
+from time_limits import TaskClock, fixed_limits, measured_limits, not_run_message, unfinished_message, used_up
 
 REPO = Path(__file__).resolve().parents[2]
 HIDDEN_FEEDBACK = "This test is hidden: its details are not shown."
@@ -62,9 +67,10 @@ TOO_LARGE = f"is larger than the {SUBMITTED_FILE_CAP:,} bytes the grader accepts
 # a submitted file (the reference files need less than 300 MB).
 BUILD_MEMORY = 4 << 30
 SUBMISSION_BUILD_MEMORY = 2 << 30
-# A test is started only with at least this much of its task's budget left (or its whole time
-# limit, if that is shorter): a shorter run would stop almost any test.
-MINIMUM_TEST_SECONDS = 1.0
+# The C track's programs are linked with the maths library, as the build links them
+# (billiard_add_program in CMakeLists.txt, grader_compile_c in tests/grader/CMakeLists.txt).
+PROGRAM_LIBRARIES = ["-lm"]
+COMPILED_KEPT = 400  # compiled task files remembered in a build folder (the oldest go first)
 
 
 @dataclass
@@ -75,7 +81,8 @@ class TestResult:
     visibility: str
     passed: bool = False
     feedback: str = ""
-    seconds: float = 0.0
+    seconds: float = 0.0      # wall time
+    cpu_seconds: float = 0.0  # what its process (and the processes it waited for) computed
     unfinished: bool = False  # stopped at its time limit
     not_run: bool = False     # its task's time budget was used up before it could start
 
@@ -91,6 +98,8 @@ class TaskResult:
     maximum: int = 0
     problem: str = ""  # why the task could not be tested (compile or link error), if so
     clock: object = None  # its TaskClock: its time budget, and what used it
+    compile_seconds: float = 0.0
+    link_seconds: float = 0.0
 
     @property
     def score(self):
@@ -158,22 +167,21 @@ def kill_group(process):
 # --- Building ----------------------------------------------------------------------------------
 
 class Build:
-    """The grader's CMake build of one submission (see tests/grader/CMakeLists.txt)."""
+    """The grader's CMake build (see tests/grader/CMakeLists.txt): nothing in it depends on a
+    submission; the compiled task files go to its submitted/ folder."""
 
-    def __init__(self, folder, submission, dependencies, compile_timeout, build_timeout):
+    def __init__(self, folder, dependencies, build_timeout):
         self.folder = folder
-        self.submission = submission
         self.dependencies = dependencies
-        self.compile_timeout = compile_timeout
         self.build_timeout = build_timeout
+        self.submitted = folder / "submitted"
 
-    def configure(self, stubbed):
+    def configure(self):
         command = [
             "cmake", "-S", str(REPO), "-B", str(self.folder), "-G", "Ninja", "-DCMAKE_BUILD_TYPE=Release",
             "-DBILLIARD_COURSE=" + ("solutions" if self.dependencies == "reference" else "tasks"),
             "-DBILLIARD_CHECK_STUBS=OFF", "-DBILLIARD_PYTHON=OFF", "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON",
-            f"-DBILLIARD_SUBMISSION={self.submission}",
-            f"-DBILLIARD_GRADE_DEPENDENCIES={self.dependencies}", "-DBILLIARD_STUBBED_TASKS=" + ";".join(stubbed),
+            f"-DBILLIARD_GRADER_OBJECTS={self.submitted}", f"-DBILLIARD_GRADE_DEPENDENCIES={self.dependencies}",
         ]
         ok, output, _ = run_limited(command, timeout=self.build_timeout)
         if not ok:
@@ -184,128 +192,230 @@ class Build:
         return run_limited(["cmake", "--build", str(self.folder), "--target", *targets], timeout=timeout,
                            preexec=build_limits(memory_bytes))
 
-    def prebuild(self, tasks):
+    def prebuild(self):
         """Builds everything that does not depend on the submission (the library, the suites'
-        test code, the reference code, the catalogs), so that the time of each task's budget
-        goes to its own file and tests only."""
-        targets = [f"catalog_{task}" for task in TASKS]
-        if self.dependencies == "reference":
-            targets += [f"billiard_solutions_{task}" for task in TASKS]
-        targets += [f"submission_{task}" for task in tasks]  # stand-ins: the grader's own code
+        test code, the reference code, the stand-ins, the catalogs, the compile commands and the
+        precompiled headers for the submitted files), so that the time of each task's budget goes
+        to its own file and tests only."""
+        targets = ["grader_compile_cxx", "grader_compile_c"]
+        for task in TASKS:
+            targets += [f"catalog_{task}", f"grader_stub_{task}"]
+            if task in PROGRAM_TASKS:
+                targets += [f"grade_{task}", task]  # the suite, and the command that gives the expected output
+            elif self.dependencies == "reference":
+                targets.append(f"billiard_solutions_{task}")
         ok, output, _ = self.build(targets, timeout=self.build_timeout)
         if not ok:
             raise RuntimeError("building the grader's own code failed:\n" + output[-20000:])
+        self.submitted.mkdir(exist_ok=True)
 
     def executable(self, name):
         return self.folder / "tests" / "grader" / name
 
+    def stub(self, task):
+        """The stand-in for a task file that is missing or does not compile: an object file (a
+        program, for a program task)."""
+        if task in PROGRAM_TASKS:
+            return self.executable(f"grader_stub_{task}")
+        return self.folder / "tests" / "grader" / "CMakeFiles" / f"grader_stub_{task}.dir" / "not_implemented.cpp.o"
 
-def readable_copy(folder, work):
-    """A header folder inside the repository, copied into `work` (the repository may sit where
-    the test user cannot read, such as under /root); folders elsewhere are used as they are."""
-    if not folder.is_relative_to(REPO):
-        return folder
-    include = work / "include"
-    include.mkdir(exist_ok=True)
-    os.chmod(include, 0o755)
-    copy = include / str(len(list(include.iterdir())))
-    shutil.copytree(folder, copy)
-    for path in [copy, *copy.rglob("*")]:
-        os.chmod(path, 0o755 if path.is_dir() else 0o644)
-    return copy
+    def compiled(self, task):
+        """Where the compiled task file goes: <task>.o, which grade_<task> links, or the program."""
+        return self.submitted / (f"program_{task}" if task in PROGRAM_TASKS else f"{task}.o")
 
 
-def preprocess_as(sandbox, build, tasks, clocks):
-    """Expands each submitted file's #include lines as the unprivileged user, in place, and
-    compiles the result as that user too.
+def command_words(entry):
+    """A compile command from compile_commands.json, without its source and output: the compiler
+    and its flags."""
+    words = shlex.split(entry["command"])
+    kept, skip = [], False
+    for word in words:
+        if skip:
+            skip = False
+        elif word in {"-o", "-c"}:
+            skip = True
+        else:
+            kept.append(word)
+    return kept
 
-    With the reference solutions made unreadable to that user (--protect-reference), a file
-    that tries `#include "../solutions/propagate.cpp"` (or any other file the user may not read)
-    fails here, and the later compilation, as the grader, sees no #include left to follow. The
-    compilation as the user catches what the assembler would read (`asm(".incbin ...")`): the
-    grader's own compilation only sees files that passed it. Each file's time comes from its
-    task's budget. Returns {task: message} for the files that fail.
-    """
-    commands = {Path(entry["file"]).name: entry for entry in
-                json.loads((build.folder / "compile_commands.json").read_text())
-                if Path(entry["file"]).parent == build.submission}
-    problems = {}
-    for task in tasks:
-        source = build.submission / TASK_FILE[task]
-        if not source.is_file():
-            continue
-        if source.name not in commands:  # never compile a file unchecked
-            raise RuntimeError(f"the grader's build has no compile command for {source}")
-        work = Path(tempfile.mkdtemp(prefix="preprocess-"))
-        os.chmod(work, 0o755)
-        sandbox.own(work)
-        shutil.copyfile(source, work / source.name)
-        sandbox.own(work / source.name)
-        words = commands[source.name]["command"].split()
-        flags = []  # the flags of the real compilation, with the headers where the user can read them
-        skip = False
-        for at, word in enumerate(words[1:], start=1):
-            if skip:
-                skip = False
-            elif word in {"-o", "-c", "-MT", "-MF"}:
-                skip = True  # the next word is the output, source or dependency file
-            elif word == "-MD" or Path(word).name == source.name:
-                pass
-            elif word.startswith("-I"):
-                flags.append("-I" + str(readable_copy(Path(word[2:]), work)))
-            elif word == "-isystem":
-                flags += [word, str(readable_copy(Path(words[at + 1]), work))]
-                skip = True
+
+def defines_before_course_headers(text):
+    """True when a C++ task file defines or undefines a macro before it includes the course's
+    headers (or includes none of them): then the precompiled headers, which come first, could
+    change what the file means, and it is compiled without them."""
+    for line in text.decode(errors="replace").splitlines():
+        if re.match(r"\s*#\s*include\s*[<\"]billiard/", line):
+            return False
+        if re.match(r"\s*#\s*(define|undef)\b", line):
+            return True
+    return True
+
+
+class TaskFileCompiler:
+    """Compiles submitted task files, each once, with the commands of the grader's build for them
+    (grader_compile_cxx and grader_compile_c in compile_commands.json): the same flags as the
+    course's own code, and for C++ the precompiled course headers.
+
+    With the reference solutions made unreadable to the test user (--protect-reference), each file
+    is compiled as that user, with copies of the project's headers it may read: a file that tries
+    `#include "../solutions/propagate.cpp"`, or `asm(".incbin ...")` for the assembler, fails, and
+    its object file is what the suite links. Otherwise a file whose text, command and headers are
+    unchanged since an earlier grading in this build folder is not compiled again."""
+
+    def __init__(self, build, sandbox, protect, scratch):
+        commands = {Path(entry["file"]).name: entry for entry in
+                    json.loads((build.folder / "compile_commands.json").read_text())}
+        for name in ["submitted_file.cpp", "submitted_file.c"]:
+            if name not in commands:  # never compile a file unchecked
+                raise RuntimeError(f"the grader's build has no compile command for {name}")
+        self.build = build
+        self.sandbox = sandbox
+        self.protect = protect
+        self.commands = {".cpp": command_words(commands["submitted_file.cpp"]),
+                         ".c": command_words(commands["submitted_file.c"])}
+        self.words = self.commands  # as run: with --protect-reference, with readable copies of the headers
+        self.work = scratch
+        if protect:
+            self.words = {suffix: self.readable(words) for suffix, words in self.words.items()}
+        self.cache = build.submitted / "cache"
+        self.cache.mkdir(exist_ok=True)
+
+    def readable(self, words):
+        """The command with the project's folders and files (which may sit where the test user
+        cannot read, such as under /root) replaced by copies in the grading's scratch folder."""
+        copies = self.work / "include"
+        copies.mkdir(exist_ok=True)
+        result = []
+        for at, word in enumerate(words):
+            option = "-I" if word.startswith("-I") else words[at - 1] if at else ""
+            path = Path(word[2:] if option == "-I" else word)
+            if option not in {"-I", "-isystem", "-include"} or not (path.is_relative_to(REPO) or
+                                                                    path.is_relative_to(self.build.folder)):
+                result.append(word)
+                continue
+            copy = copies / str(at)
+            if option == "-include":  # a precompiled header: the header and its .gch beside it
+                copy.mkdir()
+                for source in path.parent.glob(path.name + "*"):
+                    share(source, copy / source.name)
+                result.append(str(copy / path.name))
             else:
-                flags.append(word)
-        expanded = "expanded" + source.suffix  # the suffix tells the compiler the language
-        steps = [([words[0], *flags, "-E", source.name, "-o", expanded], expanded),
-                 ([words[0], *flags, "-c", expanded, "-o", "expanded.o"], None)]
+                shutil.copytree(path, copy)
+                result.append(f"-I{copy}" if option == "-I" else str(copy))
+        for item in [copies, *copies.rglob("*")]:
+            if item.is_dir() or item.stat().st_nlink == 1:  # not the build's own files, shared by a link
+                os.chmod(item, 0o755 if item.is_dir() else 0o644)
+        return result
+
+    def command(self, task, text):
+        words = self.words[Path(TASK_FILE[task]).suffix]
+        if task not in PROGRAM_TASKS and defines_before_course_headers(text):
+            without = []
+            for at, word in enumerate(words):
+                if word == "-Winvalid-pch" or word == "-include" or (at and words[at - 1] == "-include"):
+                    continue
+                without.append(word)
+            words = without
+        return words
+
+    def compile(self, task, source, limit, remembered=True):
+        """Compiles a task file into build.compiled(task), or takes it from the files compiled
+        before (unless `remembered` is false); returns (problem message or "", seconds spent)."""
+        text = source.read_bytes()
+        words = self.command(task, text)
+        target = self.build.compiled(task)
+        key = hashlib.sha256(json.dumps([TASK_FILE[task], words]).encode() + b"\0" + text).hexdigest()
+        if remembered and not self.protect and self.recall(key, target):
+            return "", 0.0
+        work = Path(tempfile.mkdtemp(prefix="compile-", dir=self.work))
+        os.chmod(work, 0o755)
+        self.sandbox.own(work)
+        name = TASK_FILE[task]
+        shutil.copyfile(source, work / name)
+        self.sandbox.own(work / name)
+        output_name = "program" if task in PROGRAM_TASKS else "compiled.o"
+        command = [*words, *(["-c"] if task not in PROGRAM_TASKS else []), name, "-o", output_name,
+                   "-MD", "-MF", "depends.d", *(PROGRAM_LIBRARIES if task in PROGRAM_TASKS else [])]
+        started = time.monotonic()
+        preexec = self.sandbox.preexec(limit, SUBMISSION_BUILD_MEMORY) if self.protect else build_limits(SUBMISSION_BUILD_MEMORY)
         try:
-            for command, product in steps:
-                limit = min(build.compile_timeout - clocks[task].spent_building, clocks[task].left)
-                started = time.monotonic()
-                ok, output, timed_out = run_limited(command, timeout=limit, cwd=work,
-                                                    preexec=sandbox.preexec(limit, SUBMISSION_BUILD_MEMORY))
-                clocks[task].spend(time.monotonic() - started, building=True)
-                if timed_out:
-                    problems[task] = (f"{TASK_FILE[task]} does not compile: the compiler did not finish within "
-                                      f"{limit:.0f} s and was stopped. A correct file compiles in a few seconds: "
-                                      "does it include a file that never ends, or make the compiler work without end?")
-                    break
-                if not ok:
-                    messages = compiler_messages(output.replace(str(work) + "/", ""))
-                    problems[task] = does_not_compile(task, source, messages)
-                    break
-                if product:
-                    shutil.copyfile(work / product, source)
+            ok, output, timed_out = run_limited(command, timeout=limit, cwd=work, preexec=preexec)
+            seconds = time.monotonic() - started
+            if timed_out:
+                return (f"{name} does not compile: the compiler did not finish within {limit:.0f} s and was stopped. A "
+                        "correct file compiles in a few seconds: does it include a file that never ends, or make the "
+                        "compiler work without end?"), seconds
+            if not ok:
+                return does_not_compile(task, source, compiler_messages(output.replace(str(work) + "/", ""))), seconds
+            self.put(work / output_name, target, key)
+            if not self.protect:
+                self.remember(key, work / output_name, work / "depends.d")
+            return "", seconds
         finally:
             shutil.rmtree(work, ignore_errors=True)
-    return problems
+
+    @staticmethod
+    def put(compiled, target, key):
+        """Puts a compiled file in place, unless the one there is the same (so its suite is not
+        linked again)."""
+        label = target.with_name(target.name + ".key")
+        if target.is_file() and label.is_file() and label.read_text() == key:
+            return
+        label.unlink(missing_ok=True)
+        shutil.copyfile(compiled, target)
+        os.chmod(target, 0o755)
+        label.write_text(key)
+
+    def put_stub(self, task):
+        self.put(self.build.stub(task), self.build.compiled(task), "stub")
+
+    def remember(self, key, compiled, depends):
+        """Keeps a compiled file with the state of every file its compilation read."""
+        try:
+            listed = depends.read_text().split(":", 1)[1].replace("\\\n", " ").split()
+        except (OSError, IndexError):
+            return
+        headers = {path: signature(path) for path in listed if Path(path).is_absolute()}
+        shutil.copyfile(compiled, self.cache / f"{key}.o")
+        write_atomically(self.cache / f"{key}.json", json.dumps(headers))
+        entries = sorted(self.cache.glob("*.json"), key=lambda path: path.stat().st_mtime)
+        for old in entries[:-COMPILED_KEPT]:
+            old.unlink(missing_ok=True)
+            old.with_suffix(".o").unlink(missing_ok=True)
+
+    def recall(self, key, target):
+        """Puts a remembered compiled file in place if every file it was compiled from is unchanged."""
+        entry = self.cache / f"{key}.json"
+        try:
+            headers = json.loads(entry.read_text())
+        except (OSError, ValueError):
+            return False
+        if any(signature(path) != saved for path, saved in headers.items()) or not entry.with_suffix(".o").is_file():
+            return False
+        os.utime(entry)
+        self.put(entry.with_suffix(".o"), target, key)
+        return True
 
 
-def compile_submission(build, tasks, clocks):
-    """Compiles each submitted file alone, within its task's budget; returns {task: compiler
-    message} for those that fail."""
-    problems = {}
-    for task in tasks:
-        source = build.submission / TASK_FILE[task]
-        if not source.is_file():
-            problems[task] = f"{TASK_FILE[task]} was not submitted."
-            continue
-        limit = min(build.compile_timeout - clocks[task].spent_building, clocks[task].left)
-        print(f"grade: {task_name(task)}: compiling {TASK_FILE[task]}", flush=True)
-        started = time.monotonic()
-        ok, output, timed_out = build.build([f"submission_{task}"], timeout=limit,
-                                            memory_bytes=SUBMISSION_BUILD_MEMORY)
-        clocks[task].spend(time.monotonic() - started, building=True)
-        if timed_out:
-            problems[task] = (f"{TASK_FILE[task]} does not compile: the compiler did not finish within {limit:.0f} s "
-                              "and was stopped. A correct file compiles in a few seconds: does it include a file "
-                              "that never ends, or make the compiler work without end?")
-        elif not ok:
-            problems[task] = does_not_compile(task, source, compiler_messages(output))
-    return problems
+def signature(path):
+    """A file's size and time of change, or None if it is gone."""
+    try:
+        info = os.stat(path)
+    except OSError:
+        return None
+    return [info.st_size, info.st_mtime_ns]
+
+
+def share(source, target):
+    """A hard link of a file that anyone may read, where possible (the precompiled header is 100
+    MB), else a copy."""
+    try:
+        if os.stat(source).st_mode & stat.S_IROTH:
+            os.link(source, target)
+            return
+    except OSError:
+        pass
+    shutil.copyfile(source, target)
 
 
 def does_not_compile(task, source, messages):
@@ -342,8 +452,9 @@ class Sandbox:
         """The function to run in the child between fork and exec, for a run of `seconds`."""
         def prepare():
             os.setsid()  # its own process group, killed as a whole afterwards
+            cpu = math.ceil(seconds) + 1  # a backstop: the grader stops a test at its limit itself
             limits = [
-                (resource.RLIMIT_CPU, int(seconds) + 5),
+                (resource.RLIMIT_CPU, (cpu, cpu + 1)),
                 (resource.RLIMIT_AS, memory_bytes or self.memory_bytes),
                 (resource.RLIMIT_FSIZE, self.file_bytes),
                 (resource.RLIMIT_CORE, 0),
@@ -351,7 +462,7 @@ class Sandbox:
             if self.account:
                 limits.append((resource.RLIMIT_NPROC, 512))
             for limit, value in limits:
-                resource.setrlimit(limit, (value, value))
+                resource.setrlimit(limit, value if isinstance(value, tuple) else (value, value))
             if self.account:
                 os.setgroups([])
                 os.setgid(self.account.pw_gid)
@@ -361,56 +472,6 @@ class Sandbox:
     def own(self, path):
         if self.account:
             os.chown(path, self.account.pw_uid, self.account.pw_gid)
-
-
-class TaskClock:
-    """The time one task may take: compiling its file, linking its suite and running its tests.
-
-    Tests of a task may run at the same time; each reserves its time limit from the budget before
-    it starts and gives back what it did not use, so that the durations of a task's tests add up
-    to no more than what its compilation left of the budget. Since the grader always has a test
-    running while tests remain, grading takes no longer than the sum of the budgets (plus the
-    grader's own build), on any number of cores."""
-
-    def __init__(self, task, budget, timeout, short_timeout):
-        self.task = task
-        self.budget = budget
-        self.left = budget
-        self.timeout = timeout
-        self.short_timeout = short_timeout
-        self.spent_building = 0.0
-        self.running = 0
-        self.unfinished = 0  # tests stopped at their time limit
-        self.condition = threading.Condition()
-
-    def spend(self, seconds, building=False):
-        with self.condition:
-            self.left -= seconds
-            if building:
-                self.spent_building += seconds
-
-    def reserve(self):
-        """The time limit for the next test, reserved, and why it is that long ("each test",
-        "short" or "budget"); None when the budget is used up. Waits while the rest of the budget
-        is reserved by tests of this task that are running."""
-        with self.condition:
-            while True:
-                wanted = self.short_timeout if self.unfinished else self.timeout
-                granted = min(wanted, self.left)
-                if granted >= min(wanted, MINIMUM_TEST_SECONDS):
-                    self.left -= granted
-                    self.running += 1
-                    return granted, ("budget" if granted < wanted else "short" if self.unfinished else "each test")
-                if not self.running:
-                    return None
-                self.condition.wait()
-
-    def release(self, granted, seconds, unfinished):
-        with self.condition:
-            self.left += granted - seconds
-            self.running -= 1
-            self.unfinished += unfinished
-            self.condition.notify_all()
 
 
 class Processes:
@@ -500,9 +561,10 @@ def program_files(task, folder):
             "BILLIARD_EXPECTED_PROGRAM": folder / f"expected_{task}"}
 
 
-def run_test(test, executable, sandbox, scratch, processes, limit, why, clock):
-    """Runs one graded test in its own process, stopped after `limit` seconds (why: see
-    TaskClock.reserve), and fills in test.passed and test.feedback."""
+def run_test(test, executable, sandbox, scratch, processes, cpu_limit, wall_limit, why, clock):
+    """Runs one graded test in its own process, stopped after `cpu_limit` seconds of computing or
+    `wall_limit` seconds in all (why: see TaskClock.reserve), and fills in test.passed,
+    test.feedback and its times."""
     work = Path(tempfile.mkdtemp(prefix="test-", dir=scratch))
     sandbox.own(work)
     token = secrets.token_hex(16)
@@ -512,26 +574,24 @@ def run_test(test, executable, sandbox, scratch, processes, limit, why, clock):
         "BILLIARD_GRADER_TOKEN": token,
     } | {name: str(path) for name, path in program_files(test.task, executable.parent).items()}
     if test.task in PROGRAM_TASKS:  # the suite's own limit on the program then stays out of the way
-        environment["BILLIARD_TEST_TIME_LIMIT"] = f"{limit:g}"
+        environment["BILLIARD_TEST_TIME_LIMIT"] = f"{wall_limit:g}"
     command = [str(executable), f"--gtest_filter={test.name}", f"--graded-result={result_file}",
                "--gtest_color=no", "--gtest_brief=0"]
     started = time.monotonic()
     process = processes.start(command, cwd=work, env=environment, stdin=subprocess.DEVNULL,
-                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, preexec_fn=sandbox.preexec(limit))
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, preexec_fn=sandbox.preexec(cpu_limit))
     captured = []
     reader = threading.Thread(target=read_capped, args=(process.stdout, FEEDBACK_CAP * 4, captured), daemon=True)
     reader.start()
-    timed_out = False
     try:
-        process.wait(timeout=limit)
-    except subprocess.TimeoutExpired:
-        timed_out = True
+        status, cpu, stopped = wait_limited(process, cpu_limit, wall_limit)
     finally:
         kill_group(process)  # the test and anything it started
         processes.finished(process)
         processes.stop_orphans()  # and what left its group
     reader.join(timeout=5)
     test.seconds = time.monotonic() - started
+    test.cpu_seconds = cpu
     output, dropped = captured[0] if captured else (b"", 0)
     text = output.decode(errors="replace")
 
@@ -539,66 +599,89 @@ def run_test(test, executable, sandbox, scratch, processes, limit, why, clock):
         reported = result_file.read_text(errors="replace").strip() if result_file.is_file() else ""
     except OSError:
         reported = ""
-    test.passed = not timed_out and process.returncode == 0 and reported == f"{token} passed"
-    # Stopped for its CPU time (several busy threads) is not finishing either.
-    test.unfinished = timed_out or process.returncode == -signal.SIGXCPU
+    test.passed = not stopped and status == 0 and reported == f"{token} passed"
+    # Stopped by the kernel for its CPU time (several busy threads) is not finishing either.
+    test.unfinished = stopped or status in (-signal.SIGXCPU, -signal.SIGKILL) and cpu >= cpu_limit
 
     messages = gtest_messages(text)
     if dropped:
         messages += f"\n... ({dropped} more bytes of output were dropped)"
     if test.unfinished:
-        messages = unfinished_message(clock, limit, why) + "\n" + messages
-    elif process.returncode < 0:
-        number = -process.returncode
+        messages = unfinished_message(clock, test.name, cpu_limit, why) + "\n" + messages
+    elif status < 0:
+        number = -status
         name = signal.Signals(number).name if number in signal.Signals._value2member_map_ else f"signal {number}"
         messages = (f"The test program crashed with {name}, "
                     f"{SIGNAL_HINTS.get(number, 'an error the program could not recover from')}.\n" + messages)
-    elif not test.passed and not reported and process.returncode == 0:
+    elif not test.passed and not reported and status == 0:
         messages = ("The test program ended before the test was over (did the code call exit()?), "
                     "so the test cannot count as passed.\n" + messages)
     test.feedback = cap(messages.strip(), FEEDBACK_CAP)
     shutil.rmtree(work, ignore_errors=True)
 
 
-def unfinished_message(clock, limit, why):
-    """What a student reads about a test stopped at its time limit."""
-    because = {
-        "budget": f"what was left of the {clock.budget:g} s that compiling {TASK_FILE[clock.task]} and running all of "
-                  f"{clock.task}'s tests may take",
-        "short": f"the limit for {clock.task}'s tests once one of them did not finish within {clock.timeout:g} s",
-        "each test": "the limit for each test",
-    }[why]
-    return (f"The test did not finish within {limit:.3g} seconds ({because}) and was stopped; a correct solution "
-            f"finishes each test in a few seconds. Is there an endless loop in {TASK_FUNCTIONS[clock.task]}, "
-            "or a loop whose end depends on a condition that never holds?")
+def wait_limited(process, cpu_limit, wall_limit):
+    """Waits for a process until it ends, has computed for `cpu_limit` seconds (its threads and
+    the children it waited for counted) or `wall_limit` seconds have passed; returns (exit status
+    as Popen gives it, CPU seconds, stopped at a limit). A stopped process is killed with its
+    group."""
+    started = time.monotonic()
+    pid = process.pid
+    try:
+        ended = os.pidfd_open(pid)
+    except (AttributeError, OSError):  # no pidfd: look every few milliseconds
+        ended = None
+    stopped = False
+    try:
+        while True:
+            done, status, usage = os.wait4(pid, os.WNOHANG)
+            if done:
+                break
+            cpu = cpu_seconds(pid)
+            left = min(cpu_limit - cpu, wall_limit - (time.monotonic() - started))
+            if left <= 0:
+                stopped = True
+                os.killpg(pid, signal.SIGKILL)
+                _, status, usage = os.wait4(pid, 0)
+                break
+            # The CPU time cannot grow faster than the wall time for each busy thread: look again
+            # when the limit could be reached by one thread, and at least twice a second.
+            pause = min(left, 0.5)
+            if ended is not None:
+                select.select([ended], [], [], pause)
+            else:
+                time.sleep(min(pause, 0.005))
+    finally:
+        if ended is not None:
+            os.close(ended)
+    process.returncode = os.waitstatus_to_exitcode(status)
+    return process.returncode, usage.ru_utime + usage.ru_stime, stopped
 
 
-def not_run_message(clock):
-    return (f"This test was not run: compiling {TASK_FILE[clock.task]} and running {clock.task}'s tests may take "
-            f"{clock.budget:g} s in all, and {used_up(clock)}. A correct solution needs a few seconds for all of "
-            f"them. Is there an endless loop in {TASK_FUNCTIONS[clock.task]}? Once its tests finish, this one runs "
-            "too.")
+CLOCK_TICKS = os.sysconf("SC_CLK_TCK")
 
 
-def used_up(clock):
-    """What used up a task's budget, for students."""
-    return (f"that time was used up: compiling took {clock.spent_building:.0f} s and "
-            f"{plural(clock.unfinished, 'test')} did not finish (see {'its' if clock.unfinished == 1 else 'their'} "
-            "messages)")
+def cpu_seconds(pid):
+    """The CPU time of a running process: its threads' and that of the children it waited for."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except (OSError, IndexError):
+        return 0.0
+    return sum(int(value) for value in fields[11:15]) / CLOCK_TICKS  # utime stime cutime cstime
 
 
 def run_budgeted(test, executable, sandbox, scratch, processes, clock):
     """Runs one test within its task's budget, or marks it not run when the budget is used up."""
-    reserved = clock.reserve()
+    reserved = clock.reserve(test.name)
     if reserved is None:
         test.not_run = True
         test.feedback = not_run_message(clock)
         return
-    limit, why = reserved
+    cpu_limit, wall_limit, why = reserved
     try:
-        run_test(test, executable, sandbox, scratch, processes, limit, why, clock)
+        run_test(test, executable, sandbox, scratch, processes, cpu_limit, wall_limit, why, clock)
     finally:
-        clock.release(limit, test.seconds, test.unfinished)
+        clock.release(wall_limit, test.seconds, test.unfinished)
 
 
 def gtest_messages(text):
@@ -619,9 +702,9 @@ class ResultCache:
     so an unchanged executable gives the same results. Used when grading many variants of one
     submission, such as the mutants."""
 
-    def __init__(self, folder, timeout):
+    def __init__(self, folder, limits):
         self.folder = folder
-        self.timeout = timeout
+        self.limits = limits  # {task: TaskLimits}
         self.checksums = {}
         folder.mkdir(parents=True, exist_ok=True)
 
@@ -631,7 +714,7 @@ class ResultCache:
             files = [executable, *program_files(test.task, executable.parent).values()]
             self.checksums[executable] = hashlib.sha256(b"".join(hashlib.sha256(path.read_bytes()).digest()
                                                                  for path in files)).hexdigest()
-        name = f"{self.checksums[executable]}-{test.name}-{self.timeout:g}"
+        name = f"{self.checksums[executable]}-{test.name}-{self.limits[test.task].test(test.name):g}"
         return self.folder / (hashlib.sha256(name.encode()).hexdigest() + ".json")
 
     def recall(self, test, executable):
@@ -640,13 +723,14 @@ class ResultCache:
             return False
         saved = json.loads(entry.read_text())
         test.passed, test.feedback, test.seconds = saved["passed"], saved["feedback"], saved["seconds"]
+        test.cpu_seconds = saved["cpu_seconds"]
         return True
 
     def remember(self, test, executable):
         if test.unfinished or test.not_run:
             return  # depends on the time left, not only on the executable
         write_atomically(self.key(test, executable), json.dumps(
-            {"passed": test.passed, "feedback": test.feedback, "seconds": test.seconds}))
+            {"passed": test.passed, "feedback": test.feedback, "seconds": test.seconds, "cpu_seconds": test.cpu_seconds}))
 
 
 # --- Reports -----------------------------------------------------------------------------------
@@ -682,8 +766,8 @@ def print_table(results, verbose):
                 print(indent(feedback, 10))
         if not_run:
             print(f"      not run: {plural(len(not_run), 'test')} ({plural(sum(t.points for t in not_run), 'point')}): "
-                  f"the task may take {result.clock.budget:g} s in all, and {used_up(result.clock)}. An endless "
-                  f"loop in {TASK_FUNCTIONS[result.task]}?")
+                  f"the task may take {result.clock.limits.budget:.0f} s in all here, and {used_up(result.clock)}. An "
+                  f"endless loop in {TASK_FUNCTIONS[result.task]}?")
     counted = [result for result in results if not is_optional(result.task)]
     extra = [result for result in results if is_optional(result.task)]
     print(f"\n    {'total':<{width}}{sum(r.score for r in counted):>3} / {sum(r.maximum for r in counted)}")
@@ -793,27 +877,34 @@ def parse_arguments(argv):
                         help="code for the other tasks of each suite: the reference solutions (default where "
                              "solutions/ exists) or the submission's own files")
     parser.add_argument("--task", action="append", choices=TASKS, help="grade only this task (repeatable)")
-    parser.add_argument("--timeout", type=float, default=60.0, help="seconds per test (default 60)")
-    parser.add_argument("--short-timeout", type=float, default=10.0,
-                        help="seconds per test for the rest of a task's tests once one of them did not finish "
-                             "within --timeout (default 10)")
+    parser.add_argument("--limits", choices=["reference", "fixed"],
+                        help="time limits: 'reference' (the default where solutions/ exists) gives each test and "
+                             f"each task {time_limits.MARGIN} times what the reference solutions need on this machine, "
+                             "measured once per build folder; 'fixed' takes --timeout, --task-budget and "
+                             "--compile-timeout")
+    parser.add_argument("--timeout", type=float, default=60.0,
+                        help="with fixed limits, seconds of computing per test (default 60)")
     parser.add_argument("--task-budget", type=float, default=120.0,
-                        help="seconds each task may take in all: compiling its file, linking its suite and running "
-                             "its tests (their durations added up, also when two run at once); tests left when it is "
-                             "used up fail without running. Grading takes at most the grader's own build plus one "
-                             "budget per task (default 120)")
+                        help="with fixed limits, seconds each task may take in all: compiling its file, linking its "
+                             "suite and running its tests (their durations added up, also when two run at once); "
+                             "tests left when it is used up fail without running. Grading takes at most the "
+                             "grader's own build plus one budget per task (default 120)")
     parser.add_argument("--compile-timeout", type=float, default=60.0,
-                        help="seconds per submitted file, within its task's budget (default 60)")
+                        help="with fixed limits, seconds per submitted file, within its task's budget (default 60)")
+    parser.add_argument("--total", type=float,
+                        help="seconds the tasks' budgets may add up to at most (a platform's time limit for a "
+                             "submission, less its other work): larger budgets are scaled down to fit")
     parser.add_argument("--build-timeout", type=float, default=1800.0,
                         help="seconds for the grader's own build, which does not depend on the submission "
                              "(default 1800)")
-    parser.add_argument("--jobs", type=int, default=2, help="tests run at once (default 2)")
+    parser.add_argument("--jobs", type=int,
+                        help="tests run at once (default: the cores this process may use)")
     parser.add_argument("--user", help="run tests as this user (default: 'nobody' when run as root)")
     parser.add_argument("--protect-reference", action="store_true",
                         help="(as root, for the platforms' graders) make solutions/ and instructor-only tests "
-                             "unreadable to the test user, and expand each submitted file's #include lines and "
-                             "compile it as that user first, so that a submission cannot include the reference code "
-                             "(with #include or the assembler's .incbin)")
+                             "unreadable to the test user, and compile each submitted file as that user, so that a "
+                             "submission cannot include the reference code (with #include or the assembler's "
+                             ".incbin)")
     parser.add_argument("--brief", action="store_true", help="list failing tests without their messages")
     parser.add_argument("--require-full", action="store_true",
                         help="exit with status 1 unless every graded task has full points (for CI graders such "
@@ -830,10 +921,16 @@ def parse_arguments(argv):
         arguments.dependencies = "reference" if (REPO / "solutions" / "CMakeLists.txt").is_file() else "submission"
     if arguments.dependencies == "reference" and not (REPO / "solutions" / "CMakeLists.txt").is_file():
         fail("--dependencies reference needs the reference solutions in solutions/, which this copy does not have")
-    if min(arguments.timeout, arguments.short_timeout, arguments.task_budget, arguments.compile_timeout,
-           arguments.build_timeout) <= 0 or arguments.jobs < 1:
-        fail("--timeout, --short-timeout, --task-budget, --compile-timeout and --build-timeout must be positive, "
-             "and --jobs at least 1")
+    if arguments.limits is None:
+        arguments.limits = "reference" if arguments.dependencies == "reference" else "fixed"
+    if arguments.limits == "reference" and arguments.dependencies != "reference":
+        fail("--limits reference measures the reference solutions, which --dependencies submission leaves out")
+    if arguments.jobs is None:
+        arguments.jobs = len(os.sched_getaffinity(0))
+    if min(arguments.timeout, arguments.task_budget, arguments.compile_timeout, arguments.build_timeout,
+           arguments.total or 1) <= 0 or arguments.jobs < 1:
+        fail("--timeout, --task-budget, --compile-timeout, --total and --build-timeout must be positive, and --jobs "
+             "at least 1")
     if arguments.user is None and os.geteuid() == 0:
         arguments.user = "nobody"
     if arguments.protect_reference and not arguments.user:
@@ -846,30 +943,24 @@ def parse_arguments(argv):
     return arguments
 
 
-def stage_submission(submission, grading):
-    """Copies the task files of a submission into the grader's own folder, grading/submission/,
-    and returns it with {task: message} for the task files that cannot be graded (a folder, a
-    link, a special or too large file). Only regular files are read, without following links,
-    so that a submission cannot make the grader read files outside it. A file whose content is
-    unchanged since the last run is left alone, so the build does not compile it again."""
-    staged = grading / "submission"
+def stage_submission(submission, grading, name="submission"):
+    """Copies the task files of a submission into the grader's own folder, grading/<name>/, and
+    returns it with {task: message} for the task files that cannot be graded (a folder, a link, a
+    special or too large file). Only regular files are read, without following links, so that a
+    submission cannot make the grader read files outside it."""
+    staged = grading / name
     staged.mkdir(parents=True, exist_ok=True)
     problems = {}
     for task in TASKS:
         source, target = submission / f"{TASK_FILE[task]}", staged / f"{TASK_FILE[task]}"
-        previous = grading / "previous" / f"{TASK_FILE[task]}"  # the submitted text behind `target`
         text, problem = read_task_file(source)
         if problem:
             problems[task] = (f"{TASK_FILE[task]} {problem}, so it was not graded (0 points for this task). Submit the file "
                               "itself.")
-        if text is not None:
-            if not (target.is_file() and previous.is_file() and previous.read_bytes() == text):
-                previous.parent.mkdir(exist_ok=True)
-                previous.write_bytes(text)
-                target.write_bytes(text)
-        else:
+        if text is None:
             target.unlink(missing_ok=True)
-            previous.unlink(missing_ok=True)
+        elif not (target.is_file() and target.read_bytes() == text):
+            target.write_bytes(text)
     return staged, problems
 
 
@@ -906,115 +997,223 @@ def grade(arguments):
 
     # Only the task files are taken from the submission, into a folder of the grader's own.
     staged, problems = stage_submission(arguments.submission, grading)
-    build = Build(arguments.build, staged, arguments.dependencies, arguments.compile_timeout, arguments.build_timeout)
+    build = Build(arguments.build, arguments.dependencies, arguments.build_timeout)
     print(f"grade: building the grader's own code and the graded suites in {arguments.build} (a minute or two the "
           "first time, seconds after), with "
           f"{'the reference code for the other tasks' if arguments.dependencies == 'reference' else 'your code for every task'}",
           flush=True)
-    # A task file that was not submitted is a stub from the start (its task scores 0).
-    stubbed = [task for task in TASKS if not (staged / f"{TASK_FILE[task]}").is_file()]
-    build.configure(stubbed=stubbed)
-    build.prebuild(stubbed)
+    build.configure()
+    build.prebuild()
     own_build = time.monotonic() - started
     sandbox = Sandbox(arguments.user, memory_bytes=4 << 30, file_bytes=256 << 20)
-    clocks = {task: TaskClock(task, arguments.task_budget, arguments.timeout, arguments.short_timeout)
-              for task in TASKS}
-    if arguments.protect_reference:
-        private = [path for path in [REPO / "solutions", REPO / "tests" / "graded" / "hidden", REPO / "tests" / "mutants"]
-                   if path.is_dir()]
-        modes = {path: path.stat().st_mode for path in private}
-        try:
-            for path in private:
-                os.chmod(path, 0o700)
-            problems.update(preprocess_as(sandbox, build, [task for task in TASKS if task not in problems], clocks))
-        finally:
-            for path, mode in modes.items():
-                os.chmod(path, mode)
-    problems.update(compile_submission(build, [task for task in TASKS if task not in problems], clocks))
-    if set(problems) - set(stubbed):
-        build.configure(stubbed=sorted(problems))
-        build.prebuild(sorted(problems))
-
-    # Each task's suite is linked on its own, within its task's budget.
-    results = []
-    for task in tasks:
-        result = TaskResult(task, clock=clocks[task])
-        listed = catalog(build, task)
-        result.maximum = sum(entry["points"] for entry in listed)
-        if task in problems:
-            result.problem = problems[task]
-            results.append(result)
-            continue
-        # No unlink first: Ninja relinks only a suite whose task file changed (seconds saved for
-        # every unchanged task), and a failed link is told by its status and a missing file.
-        limit = max(min(arguments.compile_timeout, clocks[task].left), MINIMUM_TEST_SECONDS)
-        print(f"grade: {task_name(task)}: linking its suite", flush=True)
-        link_started = time.monotonic()
-        ok, link_output, timed_out = build.build([f"grade_{task}"], timeout=limit,
-                                                 memory_bytes=SUBMISSION_BUILD_MEMORY)
-        clocks[task].spend(time.monotonic() - link_started, building=True)
-        if timed_out:
-            result.problem = (f"{TASK_FILE[task]} compiles, but linking the suite with it did not finish within {limit:.0f} "
-                              "s. "
-                              "A correct file links in about a second: does it define very large arrays?")
-        elif (not ok or not build.executable(f"grade_{task}").is_file()) and task in PROGRAM_TASKS:
-            result.problem = ("the grader could not build this task's suite (not your program's fault):\n"
-                              + cap(compiler_messages(link_output), COMPILER_CAP))
-        elif not ok or not build.executable(f"grade_{task}").is_file():
-            result.problem = (f"{TASK_FILE[task]} compiles, but the suite does not link with it. Does it define "
-                              f"{TASK_FUNCTIONS[task]} exactly as lib/include/billiard/course.hpp declares it, and "
-                              "nothing the other tasks define? The linker says:\n"
-                              + cap(compiler_messages(link_output), COMPILER_CAP))
-        else:
-            result.tests = [TestResult(task, entry["test"], entry["points"], entry["visibility"]) for entry in listed]
-        results.append(result)
-
-    # Run every test of every task in its own process, a few at a time, each task's within its
-    # budget. The suites are copied out of the build (which may sit where the test user cannot
-    # go, such as under /root) into a folder it can read but not change.
     scratch = Path(tempfile.mkdtemp(prefix="billiard-grade-"))
     os.chmod(scratch, 0o755)
-    suites = {}
-    for result in results:
-        if result.tests:
-            suites[result.task] = scratch / f"grade_{result.task}"
-            shutil.copyfile(build.executable(f"grade_{result.task}"), suites[result.task])
-            os.chmod(suites[result.task], 0o755)
-            built = {"BILLIARD_PROGRAM_UNDER_TEST": build.executable(f"submission_{result.task}"),
-                     "BILLIARD_EXPECTED_PROGRAM": build.folder / result.task}
-            for name, copy in program_files(result.task, scratch).items():
-                shutil.copyfile(built[name], copy)
-                os.chmod(copy, 0o755)
-    jobs = [(test, suites[test.task]) for result in results for test in result.tests]
-    cache = ResultCache(arguments.cache, arguments.timeout) if arguments.cache else None
-    if cache:
-        jobs = [(test, executable) for test, executable in jobs if not cache.recall(test, executable)]
-    print(f"grade: running {len(jobs)} tests, each in its own process, {arguments.jobs} at a time", flush=True)
-    processes = Processes()
     try:
-        with concurrent.futures.ThreadPoolExecutor(max_workers=arguments.jobs) as pool:
-            running = {}  # task -> its tests' futures, in course order
-            for test, executable in jobs:
-                running.setdefault(test.task, []).append(
-                    pool.submit(run_budgeted, test, executable, sandbox, scratch, processes, clocks[test.task]))
-            for task, futures in running.items():
-                for future in futures:
-                    future.result()
-                print(f"grade: {task_name(task)}: {len(futures)} tests run", flush=True)
+        with protected(arguments.protect_reference, build):
+            compiler = TaskFileCompiler(build, sandbox, arguments.protect_reference, scratch)
+            limits, factor = task_limits(arguments, build, compiler, sandbox, scratch, grading)
+            clocks = {task: TaskClock(limits[task]) for task in TASKS}
+            results = build_suites(build, compiler, staged, problems, tasks, clocks)
+            cache = ResultCache(arguments.cache, limits) if arguments.cache else None
+            run_tests(results, build, sandbox, scratch, clocks, arguments.jobs, cache)
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
-    if cache:
-        for test, executable in jobs:
-            cache.remember(test, executable)
 
     elapsed = time.monotonic() - started
     write_atomically(arguments.results / "results.json", json.dumps(gradescope_results(results, elapsed), indent=2) + "\n")
     write_atomically(arguments.results / "junit.xml", junit_xml(results))
     print_table(results, verbose=not arguments.brief)
     print(f"\nresults: {arguments.results / 'results.json'} (Gradescope) and {arguments.results / 'junit.xml'} (JUnit)")
-    print(f"grade: {elapsed:.0f} s in all, of which {own_build:.0f} s for the grader's own build (each task may take "
-          f"{arguments.task_budget:g} s more)")
+    print(f"grade: {elapsed:.0f} s in all, of which {own_build:.0f} s for the grader's own build; "
+          + limits_summary(limits, tasks, factor))
     return results
+
+
+class protected:
+    """With --protect-reference: while grading, the reference solutions, the instructor-only tests
+    and the grader's build folder (which holds the reference code's objects) are readable by the
+    grader alone, not by the test user; their permissions are restored afterwards."""
+
+    def __init__(self, protect, build):
+        self.paths = [path for path in [REPO / "solutions", REPO / "tests" / "graded" / "hidden",
+                                        REPO / "tests" / "mutants", build.folder] if protect and path.is_dir()]
+        self.modes = {}
+
+    def __enter__(self):
+        for path in self.paths:
+            self.modes[path] = path.stat().st_mode
+            os.chmod(path, 0o700)
+        return self
+
+    def __exit__(self, *_):
+        for path, mode in self.modes.items():
+            os.chmod(path, mode)
+
+
+def task_limits(arguments, build, compiler, sandbox, scratch, grading):
+    """{task: TaskLimits}, and the factor by which --total scaled the budgets down (1 if not).
+    Limits that follow the machine come from the reference's times in the build folder, measured
+    first if they are missing or out of date."""
+    if arguments.limits == "fixed":
+        limits = {task: fixed_limits(task, arguments.timeout, arguments.task_budget, arguments.compile_timeout)
+                  for task in TASKS}
+    else:
+        times = reference_times(build, compiler, sandbox, scratch, grading, arguments.jobs)
+        limits = {task: measured_limits(task, times[task]) for task in TASKS}
+    factor = time_limits.fit_total(limits, arguments.total) if arguments.total else 1.0
+    return limits, factor
+
+
+def reference_times(build, compiler, sandbox, scratch, grading, jobs):
+    """{task: {"compile", "link", "tests": {name: {"cpu", "wall"}}}}: what the reference solutions
+    need on this machine, from the build folder, or measured now by grading them (every test
+    twice, keeping the longer time) and saved there."""
+    catalogs = [build.executable(f"catalog_{task}") for task in TASKS]
+    solutions = [REPO / "solutions" / TASK_FILE[task] for task in TASKS]
+    expected = time_limits.fingerprint(catalogs + solutions, compiler.commands)
+    saved = time_limits.load_reference_times(build.folder, expected)
+    if saved:
+        return saved["tasks"]
+    print("grade: measuring what the reference solutions need on this machine (once for this build folder)",
+          flush=True)
+    staged, problems = stage_submission(REPO / "solutions", grading, name="reference")
+    os.chmod(staged, 0o700)  # the reference code, for the grader's eyes only
+    generous = {task: fixed_limits(task, 60.0, 600.0, 120.0) for task in TASKS}
+    clocks = {task: TaskClock(generous[task]) for task in TASKS}
+    results = build_suites(build, compiler, staged, problems, TASKS, clocks, remembered=False)
+    longest = {}
+    for _ in range(2):
+        for clock in clocks.values():
+            clock.left = clock.limits.budget
+        run_tests(results, build, sandbox, scratch, clocks, jobs, cache=None, quiet=True)
+        for result in results:
+            for test in result.tests:
+                cpu, wall = longest.get(test.name, (0.0, 0.0))
+                longest[test.name] = (max(cpu, test.cpu_seconds), max(wall, test.seconds))
+    failing = [f"{result.task}: {result.problem or ', '.join(t.name for t in result.tests if not t.passed)}"
+               for result in results if result.problem or result.score < result.maximum]
+    if failing:
+        raise RuntimeError("the reference solutions do not pass every test here, so their times cannot set the "
+                           "limits:\n" + "\n".join(failing))
+    times = {result.task: {"compile": result.compile_seconds, "link": result.link_seconds,
+                           "tests": {test.name: {"cpu": longest[test.name][0], "wall": longest[test.name][1]}
+                                     for test in result.tests}}
+             for result in results}
+    time_limits.save_reference_times(build.folder, expected, times)
+    return times
+
+
+def limits_summary(limits, tasks, factor):
+    """One line on the time limits, for the end of the report."""
+    budgets = sum(limits[task].budget for task in tasks)
+    if not limits[tasks[0]].measured:
+        return f"the tasks' time budgets add up to {budgets:.0f} s"
+    reference = sum(limits[task].reference_task for task in tasks)
+    scaled = f" (scaled down by {factor:.2f} to fit --total)" if factor < 1 else ""
+    return (f"time limits {time_limits.MARGIN} times what the reference solutions need on this machine "
+            f"({reference:.1f} s for these tasks): budgets adding up to {budgets:.0f} s{scaled}")
+
+
+def catalog_of(build, task, cache={}):
+    """The graded tests of a task's suite, listed once per grading."""
+    key = (build.folder, task)
+    if key not in cache:
+        cache[key] = catalog(build, task)
+    return cache[key]
+
+
+def build_suites(build, compiler, staged, problems, tasks, clocks, remembered=True):
+    """Compiles the task files (those of `tasks`, or every task's where each suite links them all)
+    and links each task's suite, within its task's budget; returns a TaskResult per task of
+    `tasks`, with its tests to run or the problem that stops them."""
+    problems = dict(problems)
+    compile_seconds = {}
+    for task in tasks if build.dependencies == "reference" else TASKS:
+        source = staged / TASK_FILE[task]
+        if task not in problems and not source.is_file():
+            problems[task] = f"{TASK_FILE[task]} was not submitted."
+        if task in problems:
+            compiler.put_stub(task)
+            continue
+        print(f"grade: {task_name(task)}: compiling {TASK_FILE[task]}", flush=True)
+        limit = max(min(clocks[task].limits.compile, clocks[task].left), time_limits.MINIMUM_START_SECONDS)
+        problem, compile_seconds[task] = compiler.compile(task, source, limit, remembered=remembered)
+        clocks[task].spend(compile_seconds[task], building=True)
+        if problem:
+            problems[task] = problem
+            compiler.put_stub(task)
+
+    results = []
+    for task in tasks:
+        result = TaskResult(task, clock=clocks[task], compile_seconds=compile_seconds.get(task, 0.0))
+        listed = catalog_of(build, task)
+        result.maximum = sum(entry["points"] for entry in listed)
+        results.append(result)
+        if task in problems:
+            result.problem = problems[task]
+            continue
+        if task not in PROGRAM_TASKS:  # a program task's suite is the grader's own, built already
+            # Ninja links only a suite whose compiled task file changed (seconds saved for every
+            # unchanged task); a failed link is told by its status and a missing file.
+            limit = max(min(clocks[task].limits.compile, clocks[task].left), time_limits.MINIMUM_START_SECONDS)
+            link_started = time.monotonic()
+            ok, link_output, timed_out = build.build([f"grade_{task}"], timeout=limit,
+                                                     memory_bytes=SUBMISSION_BUILD_MEMORY)
+            result.link_seconds = time.monotonic() - link_started
+            clocks[task].spend(result.link_seconds, building=True)
+            if timed_out:
+                result.problem = (f"{TASK_FILE[task]} compiles, but linking the suite with it did not finish within "
+                                  f"{limit:.0f} s. A correct file links in about a second: does it define very large "
+                                  "arrays?")
+                continue
+            if not ok or not build.executable(f"grade_{task}").is_file():
+                result.problem = (f"{TASK_FILE[task]} compiles, but the suite does not link with it. Does it define "
+                                  f"{TASK_FUNCTIONS[task]} exactly as lib/include/billiard/course.hpp declares it, "
+                                  "and nothing the other tasks define? The linker says:\n"
+                                  + cap(compiler_messages(link_output), COMPILER_CAP))
+                continue
+        result.tests = [TestResult(task, entry["test"], entry["points"], entry["visibility"]) for entry in listed]
+    return results
+
+
+def run_tests(results, build, sandbox, scratch, clocks, jobs, cache, quiet=False):
+    """Runs every test of every task in its own process, `jobs` at a time, each task's within its
+    budget. The suites are copied out of the build (which may sit where the test user cannot go,
+    such as under /root) into a folder it can read but not change."""
+    suites = {}
+    for result in results:
+        if not result.tests:
+            continue
+        suites[result.task] = scratch / f"grade_{result.task}"
+        shutil.copyfile(build.executable(f"grade_{result.task}"), suites[result.task])
+        os.chmod(suites[result.task], 0o755)
+        built = {"BILLIARD_PROGRAM_UNDER_TEST": build.compiled(result.task),
+                 "BILLIARD_EXPECTED_PROGRAM": build.folder / result.task}
+        for name, copy in program_files(result.task, scratch).items():
+            shutil.copyfile(built[name], copy)
+            os.chmod(copy, 0o755)
+    for result in results:
+        for test in result.tests:
+            test.passed, test.not_run, test.unfinished, test.feedback = False, False, False, ""
+    work = [(test, suites[test.task]) for result in results for test in result.tests]
+    if cache:
+        work = [(test, executable) for test, executable in work if not cache.recall(test, executable)]
+    if not quiet:
+        print(f"grade: running {len(work)} tests, each in its own process, {jobs} at a time", flush=True)
+    processes = Processes()
+    with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
+        running = {}  # task -> its tests' futures, in course order
+        for test, executable in work:
+            running.setdefault(test.task, []).append(
+                pool.submit(run_budgeted, test, executable, sandbox, scratch, processes, clocks[test.task]))
+        for task, futures in running.items():
+            for future in futures:
+                future.result()
+            if not quiet:
+                print(f"grade: {task_name(task)}: {len(futures)} tests run", flush=True)
+    if cache:
+        for test, executable in work:
+            cache.remember(test, executable)
 
 
 def main(argv=None):
