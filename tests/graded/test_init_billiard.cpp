@@ -260,7 +260,10 @@ GRADED_TEST(InitBilliard, RepeatedCallsWithOneGeneratorGiveDifferentTables, 2, a
 // For that distribution E[x] = E[y] = 0, Var x = Var y = rho^2 / 4, E[r^2] = rho^2 / 2,
 // Var r^2 = E[r^4] - E[r^2]^2 = rho^4 / 3 - rho^4 / 4 = rho^4 / 12, and each quadrant has
 // probability 1/4. Every sample uses its own fixed seed; bounds are 5 standard errors (a correct
-// solution fails with probability below 1e-6 per check).
+// solution fails with probability below 1e-6 per check). The first three tests name the common
+// mistakes, whose effects are many standard errors wide already with 5000 samples (each sample is
+// a call of init_billiard, the tests' own cost); the chi-square test after them, with 64000
+// samples, is the one that catches small departures from uniformity.
 
 constexpr Table kSingle{10, 1, 1};  // rho = 9
 
@@ -291,9 +294,10 @@ std::string reach_first(double farthest, double rho, const std::string& guess) {
 }
 
 GRADED_TEST(InitBilliard, SingleCircleIsCentredOnAverage, 2, after_due_date) {
-  // S = 20000 samples: standard error of the mean of x is (rho / 2) / sqrt(S) = 4.5 / 141 =
-  // 0.032, so the bound is 5 * 0.032 = 0.16 (1.8% of rho).
-  constexpr int S = 20000;
+  // S = 5000 samples: standard error of the mean of x is (rho / 2) / sqrt(S) = 4.5 / 70.7 =
+  // 0.064, so the bound is 5 * 0.064 = 0.32 (3.5% of rho). Drawing x or y over half its range
+  // shifts the mean by rho / 2 or more; a range shifted by the circle radius, by 0.5.
+  constexpr int S = 5000;
   const auto samples = single_circle_samples(S, 1000);
   if (samples.empty()) return;
   const double rho = kSingle.R - kSingle.a;
@@ -315,9 +319,10 @@ GRADED_TEST(InitBilliard, SingleCircleIsCentredOnAverage, 2, after_due_date) {
 
 GRADED_TEST(InitBilliard, SingleCircleIsUniformInArea, 3, after_due_date) {
   // E[r^2] = rho^2 / 2 = 40.5 for uniform-in-area; the common mistake of drawing the distance
-  // from the centre uniformly in [0, rho] gives rho^2 / 3 = 27. Standard error of the mean of
-  // r^2 with S = 20000: (rho^2 / sqrt(12)) / sqrt(S) = 23.4 / 141 = 0.165; bound 5 * 0.165.
-  constexpr int S = 20000;
+  // from the centre uniformly in [0, rho] gives rho^2 / 3 = 27, and x uniform with y uniform
+  // between the circle's edges at that x gives 5 rho^2 / 9 = 45. Standard error of the mean of
+  // r^2 with S = 5000: (rho^2 / sqrt(12)) / sqrt(S) = 23.4 / 70.7 = 0.33; bound 5 * 0.33 = 1.65.
+  constexpr int S = 5000;
   const auto samples = single_circle_samples(S, 50000);
   if (samples.empty()) return;
   const double rho = kSingle.R - kSingle.a;
@@ -341,9 +346,10 @@ GRADED_TEST(InitBilliard, SingleCircleIsUniformInArea, 3, after_due_date) {
 }
 
 GRADED_TEST(InitBilliard, SingleCircleQuadrantsAreEquallyLikely, 2, after_due_date) {
-  // Each quadrant has probability 1/4; with S = 20000 the standard error of a fraction is
-  // sqrt(1/4 * 3/4 / S) = 0.0031, so the bound is 5 * 0.0031 = 0.015.
-  constexpr int S = 20000;
+  // Each quadrant has probability 1/4; with S = 5000 the standard error of a fraction is
+  // sqrt(1/4 * 3/4 / S) = 0.0061, so the bound is 5 * 0.0061 = 0.031. An angle drawn over half
+  // the circle leaves two quadrants empty.
+  constexpr int S = 5000;
   const auto samples = single_circle_samples(S, 100000);
   if (samples.empty()) return;
   std::array<double, 4> fraction{0, 0, 0, 0};
@@ -398,6 +404,46 @@ GRADED_TEST(InitBilliard, SingleCircleFillsEqualAreasEquallyOften, 2, after_due_
       reach_first(farthest_centre(samples), rho,
                   "draw continuous random positions (not grid points or a few fixed spots), uniform in area: x and "
                   "y uniform in the square [-(R - a), R - a]^2 with rejection of points outside the disc"));
+  // The rings alone and the sectors alone, 7 degrees of freedom each (P(chi^2 > 48) is about
+  // 1e-7): a slight crowding towards the wall or the middle, or towards some directions, spread
+  // over 8 of the 64 cells each, stands out several times more clearly there.
+  std::array<double, kRings> rings{};
+  std::array<double, kSectors> sectors{};
+  for (int ring = 0; ring < kRings; ++ring) {
+    for (int sector = 0; sector < kSectors; ++sector) {
+      rings[static_cast<std::size_t>(ring)] += count[static_cast<std::size_t>(ring * kSectors + sector)];
+      sectors[static_cast<std::size_t>(sector)] += count[static_cast<std::size_t>(ring * kSectors + sector)];
+    }
+  }
+  const auto chi2_of = [](const auto& counts, double each) {
+    double sum = 0;
+    for (const double c : counts) sum += (c - each) * (c - each) / each;
+    return sum;
+  };
+  const auto listed = [](const auto& counts) {
+    std::string list;
+    for (const double c : counts) list += (list.empty() ? "" : ", ") + text(c);
+    return list;
+  };
+  const double chi2_rings = chi2_of(rings, double(S) / kRings), chi2_sectors = chi2_of(sectors, double(S) / kSectors);
+  const bool outwards = rings[kRings - 1] > rings[0];
+  EXPECT_LE(chi2_rings, 48.0) << explain(
+      text("the ", kRings, " rings of equal area of the reachable disc to get about ", S / kRings, " of ", S,
+           " single circles each (chi^2 over the rings below 48)"),
+      text("from the middle outwards they got ", listed(rings), ": chi^2 = ", chi2_rings),
+      reach_first(farthest_centre(samples), rho,
+                  text("the centres are crowded towards the ", outwards ? "wall" : "middle",
+                       ": every spot of the disc must be equally likely, also near the wall (x and y uniform in the "
+                       "square with rejection, or r = (R - a) sqrt(u)); if you move circles after placing them, "
+                       "every move must be as likely as its reverse (a step size that keeps changing with the "
+                       "state breaks that)")));
+  EXPECT_LE(chi2_sectors, 48.0) << explain(
+      text("the ", kSectors, " equal sectors of the reachable disc to get about ", S / kSectors, " of ", S,
+           " single circles each (chi^2 over the sectors below 48)"),
+      text("counterclockwise from the negative x axis they got ", listed(sectors), ": chi^2 = ", chi2_sectors),
+      reach_first(farthest_centre(samples), rho,
+                  "some directions are favoured: draw the angle over the whole circle, or x and y over the same "
+                  "symmetric range"));
 }
 
 // For a dilute table (n = 5, R = 20, a = 1, area fraction 0.0125) every circle, whatever its
@@ -406,10 +452,11 @@ constexpr Table kDilute{20, 1, 5};
 
 GRADED_TEST(InitBilliard, EveryCircleIsCentredOnAverage, 2, after_due_date) {
   // The law of the table is unchanged by rotations about the centre, so each row's mean
-  // position is exactly 0. Over S = 10000 seeds the standard error of row i's mean x is
-  // sd(x_i) / sqrt(S) with sd(x_i) about rho / 2 = 9.5, i.e. 0.095; we use the measured
-  // standard deviation and a bound of 5 standard errors (about 0.5).
-  constexpr int S = 10000;
+  // position is exactly 0. Over S = 4000 seeds the standard error of row i's mean x is
+  // sd(x_i) / sqrt(S) with sd(x_i) about rho / 2 = 9.5, i.e. 0.15; we use the measured
+  // standard deviation and a bound of 5 standard errors (about 0.75, 4% of rho). Circles given
+  // regions of their own (left to right, say) have means of several units.
+  constexpr int S = 4000;
   const int n = kDilute.n;
   std::vector<std::array<double, 4>> sums(static_cast<std::size_t>(n), {0, 0, 0, 0});  // x, y, x^2, y^2
   for (int k = 0; k < S; ++k) {
@@ -450,10 +497,10 @@ GRADED_TEST(InitBilliard, DiluteTableIsUniformInArea, 2, after_due_date) {
   // fraction drops by about 4 * (4 pi / (pi rho^2)) * (fraction of blocking discs cut by the
   // wall, about 0.04) / 2, i.e. about 0.001; we allow 0.005 for it. Statistics: per seed the
   // fraction of the 5 circles inside has standard deviation about sqrt(0.25 / 5) = 0.22, so
-  // over S = 10000 seeds the standard error is about 0.0022; we use the measured standard
-  // deviation, 5 standard errors (about 0.011) plus the 0.005. Drawing r uniformly instead of
+  // over S = 4000 seeds the standard error is about 0.0035; we use the measured standard
+  // deviation, 5 standard errors (about 0.017) plus the 0.005. Drawing r uniformly instead of
   // r^2 gives 0.707.
-  constexpr int S = 10000;
+  constexpr int S = 4000;
   const double rho = kDilute.R - kDilute.a;
   const double split = rho / std::sqrt(2.0);
   double sum = 0, sum2 = 0, farthest = 0;

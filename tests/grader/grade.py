@@ -188,9 +188,16 @@ class Build:
             raise RuntimeError("configuring the grader's build failed:\n" + output)
 
     def build(self, targets, timeout, memory_bytes=BUILD_MEMORY):
-        """Builds targets; returns (ok, output, timed out)."""
-        return run_limited(["cmake", "--build", str(self.folder), "--target", *targets], timeout=timeout,
+        """Builds targets with the build's Ninja (not through `cmake --build`, which would start one
+        more program for every suite linked); returns (ok, output, timed out)."""
+        return run_limited([self.ninja(), "-C", str(self.folder), *targets], timeout=timeout,
                            preexec=build_limits(memory_bytes))
+
+    def ninja(self):
+        if not hasattr(self, "_ninja"):
+            found = re.search(r"^CMAKE_MAKE_PROGRAM:\w+=(.*)$", (self.folder / "CMakeCache.txt").read_text(), re.M)
+            self._ninja = found.group(1) if found else "ninja"
+        return self._ninja
 
     def prebuild(self):
         """Builds everything that does not depend on the submission (the library, the suites'
@@ -561,40 +568,183 @@ def program_files(task, folder):
             "BILLIARD_EXPECTED_PROGRAM": folder / f"expected_{task}"}
 
 
-def run_test(test, executable, sandbox, scratch, processes, cpu_limit, wall_limit, why, clock):
-    """Runs one graded test in its own process, stopped after `cpu_limit` seconds of computing or
-    `wall_limit` seconds in all (why: see TaskClock.reserve), and fills in test.passed,
-    test.feedback and its times."""
+class TestServer:
+    """A task's graded suite running as the grader's test server (--serve in
+    tests/support/graded_main.cpp), with the sandbox's limits and user: it forks a process for
+    each test from its state before any test ran, so every test still runs alone (a crash, an
+    exit or an endless loop ends that test only) while starting costs a fork instead of a new
+    program. One server runs one test at a time; each of the grader's threads has its own."""
+
+    def __init__(self, executable, sandbox, scratch, processes, environment):
+        theirs = None
+        reports, theirs = os.pipe()
+        try:
+            self.process = processes.start(
+                [str(executable), f"--serve={theirs}", "--gtest_color=no", "--gtest_brief=0"], cwd=scratch,
+                env=environment, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                pass_fds=(theirs,), preexec_fn=sandbox.preexec(SERVER_CPU_SECONDS))
+        finally:
+            os.close(theirs)
+        self.processes = processes
+        self.reports = reports
+        self.output = self.process.stdout.fileno()
+        os.set_blocking(self.reports, False)
+        os.set_blocking(self.output, False)
+        self.received = b""
+        self.ready = False
+        self.alive = True
+
+    def run(self, name, folder, token, cpu_limit, wall_limit, variables):
+        """Runs one test (see --serve) within its limits; returns (exit status as Popen gives it,
+        CPU seconds, stopped at a limit, output, bytes of output dropped)."""
+        started = time.monotonic()
+        output, dropped = bytearray(), 0
+        pid, stopped, status, cpu = None, False, None, 0.0
+
+        def collect():
+            nonlocal dropped
+            while True:
+                try:
+                    chunk = os.read(self.output, 65536)
+                except BlockingIOError:
+                    return
+                if not chunk:
+                    return
+                room = FEEDBACK_CAP * 4 - len(output)
+                output.extend(chunk[:max(room, 0)])
+                dropped += max(len(chunk) - max(room, 0), 0)
+
+        sent = False
+        while status is None:
+            if self.ready and not sent:
+                self.process.stdin.write(" ".join([name, folder, token, f"{cpu_limit:.3f}", *variables]).encode() + b"\n")
+                self.process.stdin.flush()
+                sent = True
+            for report in self.read_reports():
+                words = report.split()
+                if words == ["ready"]:
+                    self.ready = True
+                elif words[0] == "started":
+                    pid = int(words[1])
+                elif words[0] == "ended":
+                    status, cpu = os.waitstatus_to_exitcode(int(words[1])) if int(words[1]) >= 0 else -signal.SIGKILL, \
+                        int(words[2]) / 1e6
+            if status is not None:
+                break
+            if self.ready and not sent:
+                continue
+            if not self.alive:  # the server ended: a crash before main() or in it, or killed below
+                status = self.process.wait()
+                cpu = max(cpu, 0.0)
+                break
+            # Before the test started, the server's own start counts (a submission's global
+            # constructors run in it).
+            spent = cpu_seconds(pid) if pid else cpu_seconds(self.process.pid) if not self.ready else 0.0
+            left = min(cpu_limit - spent, wall_limit - (time.monotonic() - started))
+            if left <= 0 and not stopped:
+                stopped = True
+                if pid:
+                    kill_process_group(pid)
+                    deadline = time.monotonic() + 5  # the server reports the end at once
+                else:
+                    self.stop()
+                continue
+            if stopped and pid and time.monotonic() > deadline:
+                self.stop()  # the server itself no longer answers
+                continue
+            ready, _, _ = select.select([self.reports, self.output], [], [], max(min(left, 0.5), 0.01) if not stopped else 0.1)
+            if self.output in ready:
+                collect()
+        collect()
+        return status, cpu, stopped, bytes(output), dropped
+
+    def read_reports(self):
+        """The complete lines the server has reported since the last call."""
+        try:
+            chunk = os.read(self.reports, 4096)
+        except BlockingIOError:
+            return []
+        if not chunk:
+            self.alive = False
+            return []
+        self.received += chunk
+        *lines, self.received = self.received.split(b"\n")
+        return [line.decode(errors="replace") for line in lines if line.strip()]
+
+    def stop(self):
+        """Ends the server and every test it runs."""
+        self.alive = False
+        kill_group(self.process)
+        self.processes.finished(self.process)
+
+    def close(self):
+        try:
+            self.process.stdin.close()
+            self.process.wait(timeout=5)
+        except (OSError, subprocess.TimeoutExpired):
+            pass
+        self.stop()
+        os.close(self.reports)
+        self.process.stdout.close()
+
+
+SERVER_CPU_SECONDS = 600  # a backstop for a server's own computing: its tests have their own limits
+
+
+def kill_process_group(pid):
+    try:
+        os.killpg(pid, signal.SIGKILL)
+    except (ProcessLookupError, PermissionError):
+        pass
+
+
+class TestServers:
+    """The test servers of one grading: one per suite for each of the grader's threads."""
+
+    def __init__(self, sandbox, scratch, processes):
+        self.sandbox = sandbox
+        self.scratch = scratch
+        self.processes = processes
+        self.local = threading.local()
+        self.all = []
+        self.lock = threading.Lock()
+
+    def get(self, task, executable):
+        servers = self.local.__dict__.setdefault("servers", {})
+        server = servers.get(task)
+        if server is None or not server.alive:
+            environment = {"PATH": "/usr/bin:/bin", "LANG": "C.UTF-8"} | {
+                name: str(path) for name, path in program_files(task, executable.parent).items()}
+            server = TestServer(executable, self.sandbox, self.scratch, self.processes, environment)
+            servers[task] = server
+            with self.lock:
+                self.all.append(server)
+        return server
+
+    def close(self):
+        for server in self.all:
+            server.close()
+
+
+def run_test(test, executable, servers, sandbox, scratch, processes, cpu_limit, wall_limit, why, clock):
+    """Runs one graded test in a process of its own (forked by its suite's test server), stopped
+    after `cpu_limit` seconds of computing or `wall_limit` seconds in all (why: see
+    TaskClock.reserve), and fills in test.passed, test.feedback and its times."""
     work = Path(tempfile.mkdtemp(prefix="test-", dir=scratch))
     sandbox.own(work)
     token = secrets.token_hex(16)
-    result_file = work / "result.txt"
-    environment = {
-        "PATH": "/usr/bin:/bin", "HOME": str(work), "TMPDIR": str(work), "LANG": "C.UTF-8",
-        "BILLIARD_GRADER_TOKEN": token,
-    } | {name: str(path) for name, path in program_files(test.task, executable.parent).items()}
-    if test.task in PROGRAM_TASKS:  # the suite's own limit on the program then stays out of the way
-        environment["BILLIARD_TEST_TIME_LIMIT"] = f"{wall_limit:g}"
-    command = [str(executable), f"--gtest_filter={test.name}", f"--graded-result={result_file}",
-               "--gtest_color=no", "--gtest_brief=0"]
+    # The suite's own limit on a program task's program then stays out of the way.
+    variables = [f"BILLIARD_TEST_TIME_LIMIT={wall_limit:g}"] if test.task in PROGRAM_TASKS else []
     started = time.monotonic()
-    process = processes.start(command, cwd=work, env=environment, stdin=subprocess.DEVNULL,
-                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, preexec_fn=sandbox.preexec(cpu_limit))
-    captured = []
-    reader = threading.Thread(target=read_capped, args=(process.stdout, FEEDBACK_CAP * 4, captured), daemon=True)
-    reader.start()
+    server = servers.get(test.task, executable)
     try:
-        status, cpu, stopped = wait_limited(process, cpu_limit, wall_limit)
+        status, cpu, stopped, output, dropped = server.run(test.name, work.name, token, cpu_limit, wall_limit, variables)
     finally:
-        kill_group(process)  # the test and anything it started
-        processes.finished(process)
-        processes.stop_orphans()  # and what left its group
-    reader.join(timeout=5)
+        processes.stop_orphans()  # what left the test's group
     test.seconds = time.monotonic() - started
     test.cpu_seconds = cpu
-    output, dropped = captured[0] if captured else (b"", 0)
     text = output.decode(errors="replace")
-
+    result_file = work / "result.txt"
     try:
         reported = result_file.read_text(errors="replace").strip() if result_file.is_file() else ""
     except OSError:
@@ -620,44 +770,6 @@ def run_test(test, executable, sandbox, scratch, processes, cpu_limit, wall_limi
     shutil.rmtree(work, ignore_errors=True)
 
 
-def wait_limited(process, cpu_limit, wall_limit):
-    """Waits for a process until it ends, has computed for `cpu_limit` seconds (its threads and
-    the children it waited for counted) or `wall_limit` seconds have passed; returns (exit status
-    as Popen gives it, CPU seconds, stopped at a limit). A stopped process is killed with its
-    group."""
-    started = time.monotonic()
-    pid = process.pid
-    try:
-        ended = os.pidfd_open(pid)
-    except (AttributeError, OSError):  # no pidfd: look every few milliseconds
-        ended = None
-    stopped = False
-    try:
-        while True:
-            done, status, usage = os.wait4(pid, os.WNOHANG)
-            if done:
-                break
-            cpu = cpu_seconds(pid)
-            left = min(cpu_limit - cpu, wall_limit - (time.monotonic() - started))
-            if left <= 0:
-                stopped = True
-                os.killpg(pid, signal.SIGKILL)
-                _, status, usage = os.wait4(pid, 0)
-                break
-            # The CPU time cannot grow faster than the wall time for each busy thread: look again
-            # when the limit could be reached by one thread, and at least twice a second.
-            pause = min(left, 0.5)
-            if ended is not None:
-                select.select([ended], [], [], pause)
-            else:
-                time.sleep(min(pause, 0.005))
-    finally:
-        if ended is not None:
-            os.close(ended)
-    process.returncode = os.waitstatus_to_exitcode(status)
-    return process.returncode, usage.ru_utime + usage.ru_stime, stopped
-
-
 CLOCK_TICKS = os.sysconf("SC_CLK_TCK")
 
 
@@ -670,7 +782,7 @@ def cpu_seconds(pid):
     return sum(int(value) for value in fields[11:15]) / CLOCK_TICKS  # utime stime cutime cstime
 
 
-def run_budgeted(test, executable, sandbox, scratch, processes, clock):
+def run_budgeted(test, executable, servers, sandbox, scratch, processes, clock):
     """Runs one test within its task's budget, or marks it not run when the budget is used up."""
     reserved = clock.reserve(test.name)
     if reserved is None:
@@ -679,7 +791,7 @@ def run_budgeted(test, executable, sandbox, scratch, processes, clock):
         return
     cpu_limit, wall_limit, why = reserved
     try:
-        run_test(test, executable, sandbox, scratch, processes, cpu_limit, wall_limit, why, clock)
+        run_test(test, executable, servers, sandbox, scratch, processes, cpu_limit, wall_limit, why, clock)
     finally:
         clock.release(wall_limit, test.seconds, test.unfinished)
 
@@ -1199,18 +1311,23 @@ def run_tests(results, build, sandbox, scratch, clocks, jobs, cache, quiet=False
     if cache:
         work = [(test, executable) for test, executable in work if not cache.recall(test, executable)]
     if not quiet:
-        print(f"grade: running {len(work)} tests, each in its own process, {jobs} at a time", flush=True)
+        print(f"grade: running {len(work)} tests, each in a process of its own, {jobs} at a time", flush=True)
     processes = Processes()
-    with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
-        running = {}  # task -> its tests' futures, in course order
-        for test, executable in work:
-            running.setdefault(test.task, []).append(
-                pool.submit(run_budgeted, test, executable, sandbox, scratch, processes, clocks[test.task]))
-        for task, futures in running.items():
-            for future in futures:
-                future.result()
-            if not quiet:
-                print(f"grade: {task_name(task)}: {len(futures)} tests run", flush=True)
+    servers = TestServers(sandbox, scratch, processes)
+    try:
+        with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
+            running = {}  # task -> its tests' futures, in course order
+            for test, executable in work:
+                running.setdefault(test.task, []).append(
+                    pool.submit(run_budgeted, test, executable, servers, sandbox, scratch, processes, clocks[test.task]))
+            for task, futures in running.items():
+                for future in futures:
+                    future.result()
+                if not quiet:
+                    print(f"grade: {task_name(task)}: {len(futures)} tests run", flush=True)
+    finally:
+        servers.close()
+        processes.stop_orphans()
     if cache:
         for test, executable in work:
             cache.remember(test, executable)

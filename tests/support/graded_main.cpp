@@ -14,15 +14,35 @@
 //   --brief                 print only what failed, each failure as its message: a task that
 //                           is not written yet gives one line per test (CTest passes this, so
 //                           that a first run on the stubs reads as a list, not as pages).
+//   --serve=FD              the grader's test server: read one test per line on standard input,
+//                           "NAME FOLDER TOKEN CPU_SECONDS [VARIABLE=VALUE...]", and run each in
+//                           a process of its own, forked from this one before any test ran (so
+//                           it starts as a new process of the program would, at a fraction of
+//                           the cost), in its own process group, in FOLDER (relative to this
+//                           program's working folder; also its HOME and TMPDIR), with those
+//                           variables set, at most CPU_SECONDS (rounded up) of computing and its
+//                           output on this program's; write "<token> passed" or "<token>
+//                           failed" to FOLDER/result.txt as --graded-result does, and report on
+//                           file descriptor FD "started PID" and then "ended WAIT_STATUS
+//                           CPU_MICROSECONDS" for each. Ends at the end of the input.
 #include "support/graded.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <fcntl.h>
+#include <unistd.h>
 
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iostream>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -135,6 +155,79 @@ std::string take_grader_token() {
   return token;
 }
 
+// Writes a whole line to a file descriptor (a pipe to the grader).
+void report(int fd, const std::string& line) {
+  const std::string text = line + "\n";
+  std::size_t written = 0;
+  while (written < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) std::exit(3);  // the grader has gone
+    written += static_cast<std::size_t>(n);
+  }
+}
+
+// Runs the one test `name` in this (forked) process and ends it, as main() below would with
+// --gtest_filter=NAME --graded-result=RESULT_FILE.
+[[noreturn]] void run_one_test(std::istringstream& words, const std::string& name, int reports) {
+  std::string work, token;
+  double cpu_seconds = 0;
+  words >> work >> token >> cpu_seconds;
+  ::setpgid(0, 0);  // a group of its own: the grader stops the test and what it started at once
+  ::close(reports);
+  const int nothing = ::open("/dev/null", O_RDONLY);
+  ::dup2(nothing, 0);
+  ::close(nothing);
+  // A backstop only: the grader stops the test at its limit itself.
+  const auto seconds = static_cast<rlim_t>(std::ceil(cpu_seconds)) + 1;
+  const rlimit cpu{seconds, seconds + 1};
+  ::setrlimit(RLIMIT_CPU, &cpu);
+  for (std::string variable; words >> variable;) {
+    const auto equals = variable.find('=');
+    if (equals != std::string::npos) ::setenv(variable.substr(0, equals).c_str(), variable.c_str() + equals + 1, 1);
+  }
+  if (::chdir(work.c_str()) != 0) std::_Exit(4);
+  if (char* here = ::getcwd(nullptr, 0)) {
+    ::setenv("HOME", here, 1);
+    ::setenv("TMPDIR", here, 1);
+    std::free(here);
+  }
+  GTEST_FLAG_SET(filter, name);
+  const int status = RUN_ALL_TESTS();
+  const auto* unit = ::testing::UnitTest::GetInstance();
+  const bool passed = status == 0 && unit->Passed() && unit->test_to_run_count() > 0;
+  std::ofstream("result.txt") << token << (passed ? " passed\n" : " failed\n");
+  std::exit(status);
+}
+
+// The test server of --serve=FD (see the top of this file).
+int serve(int reports) {
+  std::cout.flush();
+  std::fflush(nullptr);  // what the program printed so far must not be repeated by each test
+  report(reports, "ready");
+  for (std::string line; std::getline(std::cin, line);) {
+    std::istringstream words(line);
+    std::string name;
+    if (!(words >> name)) continue;
+    const pid_t pid = ::fork();
+    if (pid < 0) {
+      report(reports, "ended -1 0");
+      continue;
+    }
+    if (pid == 0) run_one_test(words, name, reports);
+    report(reports, "started " + std::to_string(pid));
+    int status = 0;
+    rusage usage{};
+    while (::wait4(pid, &status, 0, &usage) < 0 && errno == EINTR) {
+    }
+    const long long microseconds =
+        (static_cast<long long>(usage.ru_utime.tv_sec) + usage.ru_stime.tv_sec) * 1000000LL + usage.ru_utime.tv_usec +
+        usage.ru_stime.tv_usec;
+    report(reports, "ended " + std::to_string(status) + " " + std::to_string(microseconds));
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -142,11 +235,13 @@ int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
   bool expect_not_implemented = false, list = false;
   std::string result_path;
+  int server_reports = -1;
   for (int i = 1; i < argc; ++i) {
     const std::string argument = argv[i];
     if (argument == "--expect-not-implemented") expect_not_implemented = true;
     if (argument == "--list-graded") list = true;
     if (argument.rfind("--graded-result=", 0) == 0) result_path = argument.substr(16);
+    if (argument.rfind("--serve=", 0) == 0) server_reports = std::atoi(argument.c_str() + 8);
     if (argument == "--brief") {
       auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
       delete listeners.Release(listeners.default_result_printer());
@@ -154,6 +249,7 @@ int main(int argc, char** argv) {
     }
   }
   if (list) return list_graded() ? 0 : 1;
+  if (server_reports >= 0) return serve(server_reports);
   if (expect_not_implemented) {
     auto* checker = new StubChecker;  // owned by GoogleTest's listener list
     ::testing::UnitTest::GetInstance()->listeners().Append(checker);
