@@ -129,6 +129,16 @@ def load_reference_times(build_folder, expected_fingerprint):
     return saved
 
 
+def saved_limits(build_folder):
+    """{task: TaskLimits} from the reference's times saved in a build folder (whatever they were
+    measured for), or None."""
+    try:
+        saved = json.loads((Path(build_folder) / REFERENCE_TIMES).read_text())
+    except (OSError, ValueError):
+        return None
+    return {task: measured_limits(task, times) for task, times in saved["tasks"].items()}
+
+
 def save_reference_times(build_folder, print_, tasks):
     """Writes the reference's times: {"fingerprint", "machine", "tasks": {task: {"compile", "link",
     "tests": {name: {"cpu", "wall"}}}}}."""
