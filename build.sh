@@ -44,6 +44,10 @@ python_packages=(
   jupyter-nbconvert python3-nbclient python3-ipykernel  # running the notebooks headless
   python3-dask python3-distributed  # billiard.sweep: ensembles of runs on worker processes or a cluster
 )
+# The tests need these as well (test):
+test_packages=(
+  ccache                         # the tests build the sources again elsewhere (the grader's build)
+)
 
 # install_missing_packages [PACKAGE...]: the core packages above and the given ones.
 install_missing_packages() {
@@ -161,7 +165,7 @@ case "$command" in
     exec "$dir/$course/particles" "$@"
     ;;
   test)
-    install_missing_packages "${python_packages[@]}"
+    install_missing_packages "${python_packages[@]}" "${test_packages[@]}"
     configure_options=(-DBILLIARD_PYTHON=ON)  # the module and notebooks are tested: never skip them
     configure
     read_label_options "$@"

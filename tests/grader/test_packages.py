@@ -398,6 +398,52 @@ def endless_loops(task):
     return looping
 
 
+# The functions a task file defines for the course (not inline ones, nor the library's own).
+CONTRACT_FUNCTIONS = sorted({name for header in ["course.hpp", "extensions.hpp"]
+                             for name in re.findall(r"^(?!inline|constexpr|#)[\w:<>]+[\s&*]+(\w+)\(",
+                                                    (REPO / "lib" / "include" / "billiard" / header).read_text(),
+                                                    re.MULTILINE)})
+SLOWER_CXX = """#include <ctime>
+namespace {
+// Test code (test_packages.py): each call of a task function computes four times as long again
+// after its own work, so that the file is a correct solution five times slower than the reference.
+struct FiveTimesSlower {
+  std::clock_t start = std::clock();
+  ~FiveTimesSlower() {
+    const std::clock_t until = std::clock() + 4 * (std::clock() - start);
+    while (std::clock() < until) {
+    }
+  }
+};
+}  // namespace
+"""
+SLOWER_C = """#include <stdlib.h>
+#include <time.h>
+/* Test code (test_packages.py): the program computes four times as long again after its own work
+ * (at exit), so that it is a correct solution five times slower than the reference. */
+static clock_t slower_start;
+static void slower_spin(void) {
+  clock_t until = clock() + 4 * (clock() - slower_start);
+  while (clock() < until) {
+  }
+}
+#define main slower_main
+"""
+
+
+def slow_solution(task):
+    """The reference solution of a task made five times slower: each call of the course's
+    functions it defines (a C task: the whole program) takes five times its CPU time."""
+    source = (REPO / "solutions" / TASK_FILE[task]).read_text()
+    if task in package.grade.PROGRAM_TASKS:
+        return (SLOWER_C + source + "\n#undef main\nint main(int argc, char **argv) {\n  slower_start = clock();\n"
+                "  atexit(slower_spin);\n  return slower_main(argc, argv);\n}\n")
+    definition = re.compile(rf"^[\w:<>]+[\s&*]+({'|'.join(CONTRACT_FUNCTIONS)})\([^;{{}}]*\)\s*\{{", re.MULTILINE)
+    slowed, count = definition.subn(lambda found: found.group(0) + " FiveTimesSlower slower;", source)
+    assert count >= 1, f"solutions/{TASK_FILE[task]} defines none of {CONTRACT_FUNCTIONS}"
+    return SLOWER_CXX + slowed
+
+
 class Gradescope(unittest.TestCase):
     def run_autograder(self, root, submission_files, one_core=False):
         """Puts the files {relative path: text} into a fresh submission folder, runs run_autograder
@@ -471,6 +517,26 @@ class Gradescope(unittest.TestCase):
         for task in TASKS:
             if task != "propagate":
                 self.assertEqual(scores[task], maxima()[task], f"{task}\n{output[-3000:]}")
+
+    def test_correct_code_five_times_slower_keeps_full_points_on_one_core(self):
+        # Every task's reference solution made five times slower, graded on one core while the
+        # reference solutions are graded again and again on the other core: full points.
+        root = self.autograder()
+        files = {f"tasks/{TASK_FILE[task]}": slow_solution(task) for task in TASKS}
+        other = subprocess.Popen(
+            ["taskset", "-c", "1", "/bin/sh", "-c", "while true; do /usr/bin/python3 \"$0\" --submission \"$1\" "
+             "--build \"$2\" --results \"$3\" --brief >/dev/null 2>&1; done", str(REPO / "tests" / "grader" / "grade.py"),
+             str(REPO / "solutions"), str(WORK / "other-grading" / "build"), str(WORK / "other-grading" / "results")],
+            start_new_session=True)
+        try:
+            started = time.monotonic()
+            report, output = self.run_autograder(root, files, one_core=True)
+            elapsed = time.monotonic() - started
+        finally:
+            os.killpg(other.pid, 9)
+            other.wait()
+        print(f"every task five times slower, on one core beside another grading: {elapsed:.0f} s", flush=True)
+        self.assertEqual(scores_of(report), maxima(), output[-3000:])
 
     def test_autograder_zip_in_a_fake_autograder_folder(self):
         zip_path, root = self.set_up_autograder()
