@@ -81,7 +81,7 @@ AUTOLAB_BUILD_ALLOWANCE = 300
 # and the tasks' budgets together at most PLATFORM_TOTAL seconds (scaled down on a machine so slow
 # that they would not fit), so a submission, however it misbehaves, is graded within the
 # platform's limit, and only a misbehaving task loses points.
-PLATFORM_TOTAL = min(GRADESCOPE_CUTOFF - GRADESCOPE_BUILD_ALLOWANCE, AUTOLAB_CUTOFF - AUTOLAB_BUILD_ALLOWANCE)
+PLATFORM_TOTAL = 420
 PLATFORM_GRADE_OPTIONS = ["--limits", "reference", "--total", str(PLATFORM_TOTAL)]
 SUBMITTED_FILE_CAP = grade.SUBMITTED_FILE_CAP  # bytes: larger task files are not graded
 ARCHIVE_SCAN_CAP = 256 << 20  # bytes of an archive's (uncompressed) content looked through

@@ -187,7 +187,7 @@ class GradesKnownSubmissions(unittest.TestCase):
         hostile = {path.stem: path for path in (HERE / "hostile").glob("*.cpp")}
         timeout = 2
         (scores, maxima, report, _, _), elapsed, leftovers = grade_alone(
-            submission_from_solutions(**hostile), "--limits", "fixed", "--timeout", str(timeout))
+            submission_from_solutions(**hostile), "--limits", "fixed", "--timeout", str(timeout), "--task-budget", "30")
         self.check_gradescope_format(report)
         for task in ["init_billiard", "init_velocities", "propagate", "kinetic_energy"]:
             self.assertEqual(scores[task], 0, f"{task} misbehaves and must score 0")

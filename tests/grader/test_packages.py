@@ -321,6 +321,36 @@ class ProjectCI(unittest.TestCase):
             self.assertTrue(package.excluded(path, package.STUDENT_EXCLUDED), f"{path} would ship to students")
 
 
+class Bounds(unittest.TestCase):
+    def test_readme_states_the_limits_the_grader_and_packages_use(self):
+        """The README's time limits and bounds are the ones grade.py and package.py compute."""
+        limits = package.grade.time_limits
+        readme = " ".join((REPO / "README.md").read_text().split())
+        self.assertEqual(limits.MARGIN, 10, "the README says 'ten times'")
+        statements = [
+            f"each test ten times the CPU time the reference takes for it (at least {limits.MIN_TEST_SECONDS:g} s)",
+            f"(compiling its file, linking its suite, running its tests; at least {limits.MIN_TASK_SECONDS:g} s)",
+            f"stopped after twice its limit in wall time",
+            f"`--total {package.PLATFORM_TOTAL}`",
+            f"budgets adding up to at most {package.PLATFORM_TOTAL} s",
+            f"a submission takes at most {package.PLATFORM_TOTAL + package.GRADESCOPE_BUILD_ALLOWANCE} s, the "
+            f"tasks' budgets and {package.GRADESCOPE_BUILD_ALLOWANCE} s allowed for checking the prebuilt grader",
+            f"the driver stops the grader after {package.GRADESCOPE_CUTOFF} s",
+            f"most {package.PLATFORM_TOTAL + package.AUTOLAB_BUILD_ALLOWANCE} s on one core "
+            f"({package.AUTOLAB_BUILD_ALLOWANCE} s allowed for that, {package.PLATFORM_TOTAL} s for the tasks' budgets)",
+            f"the driver stops the grader after {package.AUTOLAB_CUTOFF} s",
+            f"the autograding timeout to {package.AUTOLAB_TIMEOUT} s",
+        ]
+        self.assertEqual(limits.WALL_SLACK, 2, "the README says 'twice'")
+        missing = [statement for statement in statements if statement not in readme]
+        self.assertEqual(missing, [], "README.md does not say these (or says other numbers)")
+        # The bounds fit the platforms' limits, with the drivers' cut-offs in between.
+        self.assertLess(package.PLATFORM_TOTAL + package.GRADESCOPE_BUILD_ALLOWANCE, package.GRADESCOPE_CUTOFF)
+        self.assertLess(package.GRADESCOPE_CUTOFF, 600)  # Gradescope's default timeout: 10 minutes
+        self.assertLess(package.PLATFORM_TOTAL + package.AUTOLAB_BUILD_ALLOWANCE, package.AUTOLAB_CUTOFF)
+        self.assertLess(package.AUTOLAB_CUTOFF, package.AUTOLAB_TIMEOUT)
+
+
 class Classroom(unittest.TestCase):
     def test_committed_workflow_is_the_generated_one(self):
         status, output = run(["/usr/bin/python3", str(HERE / "package.py"), "classroom", "--tests", str(TESTS), "--check"])
@@ -491,13 +521,15 @@ class Gradescope(unittest.TestCase):
         # graded on one core: results.json comes well within Gradescope's default limit of 10
         # minutes. Then only propagate loops: the other tasks keep full points.
         root = self.autograder()
-        limit = 300
+        # The bound setup.sh printed: the budgets measured there, and the check of the build.
+        limits = package.grade.time_limits.saved_limits(root / "source" / "build" / "grade" / "build")
+        limit = sum(item.budget for item in limits.values()) + package.GRADESCOPE_BUILD_ALLOWANCE
+        self.assertLess(limit, package.GRADESCOPE_CUTOFF)
         started = time.monotonic()
         report, output = self.run_autograder(root, {f"tasks/{TASK_FILE[task]}": endless_loops(task) for task in TASKS},
                                              one_core=True)
         elapsed = time.monotonic() - started
-        print(f"every task looping, on one core: {elapsed:.0f} s (bound "
-              f"{package.PLATFORM_TOTAL + package.GRADESCOPE_BUILD_ALLOWANCE} s)", flush=True)
+        print(f"every task looping, on one core: {elapsed:.0f} s (bound {limit:.0f} s)", flush=True)
         self.assertLess(elapsed, limit, output[-3000:])
         self.assertEqual(scores_of(report), {task: 0 for task in TASKS}, output[-3000:])
         for task in TASKS:
