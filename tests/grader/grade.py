@@ -27,6 +27,7 @@ completed (whatever the score), 2 for bad arguments.
 import argparse
 import concurrent.futures
 import ctypes
+import functools
 import hashlib
 import json
 import math
@@ -203,12 +204,9 @@ class Build:
                 return
         except OSError:
             pass
-        command = [
-            "cmake", "-S", str(REPO), "-B", str(self.folder), "-G", "Ninja", "-DCMAKE_BUILD_TYPE=Release",
-            "-DBILLIARD_COURSE=" + ("solutions" if self.dependencies == "reference" else "tasks"),
-            "-DBILLIARD_CHECK_STUBS=OFF", "-DBILLIARD_PYTHON=OFF", "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON",
-            f"-DBILLIARD_GRADER_OBJECTS={self.submitted}", f"-DBILLIARD_GRADE_DEPENDENCIES={self.dependencies}",
-        ]
+        command = ["cmake", "-S", str(REPO), "-B", str(self.folder), "-G", "Ninja", "-DCMAKE_BUILD_TYPE=Release",
+                   "-DBILLIARD_CHECK_STUBS=OFF", "-DBILLIARD_PYTHON=OFF", "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON",
+                   *[f"-D{name}={value}" for name, value in options.items()]]
         ok, output, _ = run_limited(command, timeout=self.build_timeout)
         if not ok:
             raise RuntimeError("configuring the grader's build failed:\n" + output)
@@ -216,14 +214,13 @@ class Build:
     def build(self, targets, timeout, memory_bytes=BUILD_MEMORY):
         """Builds targets with the build's Ninja (not through `cmake --build`, which would start one
         more program for every suite linked); returns (ok, output, timed out)."""
-        return run_limited([self.ninja(), "-C", str(self.folder), *targets], timeout=timeout,
+        return run_limited([self.ninja, "-C", str(self.folder), *targets], timeout=timeout,
                            preexec=build_limits(memory_bytes))
 
+    @functools.cached_property
     def ninja(self):
-        if not hasattr(self, "_ninja"):
-            found = re.search(r"^CMAKE_MAKE_PROGRAM:\w+=(.*)$", (self.folder / "CMakeCache.txt").read_text(), re.M)
-            self._ninja = found.group(1) if found else "ninja"
-        return self._ninja
+        found = re.search(r"^CMAKE_MAKE_PROGRAM:\w+=(.*)$", (self.folder / "CMakeCache.txt").read_text(), re.M)
+        return found.group(1) if found else "ninja"
 
     def prebuild(self):
         """Builds everything that does not depend on the submission (the library, the suites'
@@ -245,12 +242,12 @@ class Build:
     def executable(self, name):
         return self.folder / "tests" / "grader" / name
 
-    def stub(self, task):
-        """The stand-in for a task file that is missing or does not compile: an object file (a
-        program, for a program task)."""
-        if task in PROGRAM_TASKS:
-            return self.executable(f"grader_stub_{task}")
-        return self.folder / "tests" / "grader" / "CMakeFiles" / f"grader_stub_{task}.dir" / "not_implemented.cpp.o"
+    @functools.cached_property
+    def stubs(self):
+        """{task: the stand-in for a task file that is missing or does not compile}: an object
+        file, or a program for a program task (the build lists them in tests/grader/stubs.txt)."""
+        lines = (self.folder / "tests" / "grader" / "stubs.txt").read_text().splitlines()
+        return {task: Path(path) for task, path in (line.split(" ", 1) for line in lines if line.strip())}
 
     def compiled(self, task):
         """Where the compiled task file goes: <task>.o, which grade_<task> links, or the program."""
@@ -400,7 +397,8 @@ class TaskFileCompiler:
         label.write_text(key)
 
     def put_stub(self, task):
-        self.put(self.build.stub(task), self.build.compiled(task), "stub")
+        stub = self.build.stubs[task]
+        self.put(stub, self.build.compiled(task), f"stub {signature(stub)}")
 
     def remember(self, key, compiled, depends):
         """Keeps a compiled file with the state of every file its compilation read."""

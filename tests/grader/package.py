@@ -58,6 +58,7 @@ STUDENT_EXCLUDED = [
     "tests/grader/package.py",        # this script: Gradescope and Autolab packaging
     "tests/grader/test_packages.py",  # ... and its tests
     "tests/grader/release_check.py",  # ... and the check of the exported release
+    "tests/grader/grade_bench.py",    # the grader's benchmark (grades the reference solutions)
     ".ci/",                           # the instructors' CI (it expects the reference solutions)
     ".github/workflows/ci.yml",       # ... and the same CI on GitHub
 ]

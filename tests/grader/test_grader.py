@@ -309,19 +309,45 @@ class GradesKnownSubmissions(unittest.TestCase):
         cheat = Path(tempfile.mkdtemp(prefix="cheat-"))
         (cheat / "propagate.cpp").write_text(f'#include "{REPO}/solutions/propagate.cpp"\n')
         (cheat / "kinetic_energy.cpp").write_text('#include "../../../../solutions/kinetic_energy.cpp"\n')
+        # And at run time: init_velocities reads the reference code and the grader's build of it,
+        # and puts what it read in its failure message, which the student would see.
+        reference_object = next((BUILD / "solutions").rglob("init_velocities.cpp.o"))
+        (cheat / "init_velocities.cpp").write_text(f"""#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include "billiard/course.hpp"
+namespace billiard {{
+Velocities init_velocities(int, const Coordinates&, Rng&) {{
+  std::ostringstream seen;
+  for (const char* path : {{"{REPO}/solutions/init_velocities.cpp", "{reference_object}"}}) {{
+    std::ifstream file(path);
+    seen << "read " << path << ": " << (file ? "yes" : "no") << "; " << file.rdbuf() << "\\n";
+  }}
+  throw std::runtime_error(seen.str());
+}}
+}}  // namespace billiard
+""")
         submission = submission_from_solutions(propagate=cheat / "propagate.cpp",
-                                               kinetic_energy=cheat / "kinetic_energy.cpp")
-        mode = (REPO / "solutions").stat().st_mode
+                                               kinetic_energy=cheat / "kinetic_energy.cpp",
+                                               init_velocities=cheat / "init_velocities.cpp")
+        modes = {path: path.stat().st_mode for path in [REPO / "solutions", BUILD]}
         try:
-            scores, maxima, report, _, _ = grade(submission, "--protect-reference", "--task", "propagate",
-                                                 "--task", "kinetic_energy", "--task", "movie")
+            scores, maxima, report, _, output = grade(submission, "--protect-reference", "--task", "propagate",
+                                                      "--task", "kinetic_energy", "--task", "movie",
+                                                      "--task", "init_velocities")
         finally:
             shutil.rmtree(submission)
             shutil.rmtree(cheat)
         self.assertEqual(scores["propagate"], 0)
         self.assertEqual(scores["kinetic_energy"], 0)
+        self.assertEqual(scores["init_velocities"], 0)
         self.assertEqual(scores["movie"], maxima["movie"])
-        self.assertEqual((REPO / "solutions").stat().st_mode, mode, "the permissions of solutions/ are restored")
+        feedback = "\n".join(test["output"] for test in report["tests"] if test["name"].startswith("init_velocities:"))
+        self.assertIn("read ", feedback)  # the test did run and say what it read
+        self.assertNotIn(": yes", feedback, "a test read the reference code")
+        self.assertNotIn("reference solution", feedback)
+        for path, mode in modes.items():
+            self.assertEqual(path.stat().st_mode, mode, f"the permissions of {path} are restored")
 
 
 class Mutants(unittest.TestCase):
