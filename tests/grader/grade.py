@@ -1074,7 +1074,7 @@ def parse_arguments(argv):
     if arguments.jobs is None:
         arguments.jobs = len(os.sched_getaffinity(0))
     if min(arguments.timeout, arguments.task_budget, arguments.compile_timeout, arguments.build_timeout,
-           arguments.total or 1) <= 0 or arguments.jobs < 1:
+           1 if arguments.total is None else arguments.total) <= 0 or arguments.jobs < 1:
         fail("--timeout, --task-budget, --compile-timeout, --total and --build-timeout must be positive, and --jobs "
              "at least 1")
     if arguments.user is None and os.geteuid() == 0:
@@ -1226,7 +1226,7 @@ def reference_times(build, compiler, sandbox, scratch, grading, jobs):
     os.chmod(staged, 0o700)  # the reference code, for the grader's eyes only
     generous = {task: fixed_limits(task, 60.0, 600.0, 120.0) for task in TASKS}
     clocks = {task: TaskClock(generous[task]) for task in TASKS}
-    results = build_suites(build, compiler, staged, problems, TASKS, clocks, remembered=False)
+    results = build_suites(build, compiler, staged, problems, TASKS, clocks, remembered=False, quiet=True)
     longest = {}
     for _ in range(2):
         for clock in clocks.values():
@@ -1268,7 +1268,7 @@ def catalog_of(build, task, cache={}):
     return cache[key]
 
 
-def build_suites(build, compiler, staged, problems, tasks, clocks, remembered=True):
+def build_suites(build, compiler, staged, problems, tasks, clocks, remembered=True, quiet=False):
     """Compiles the task files (those of `tasks`, or every task's where each suite links them all)
     and links each task's suite, within its task's budget; returns a TaskResult per task of
     `tasks`, with its tests to run or the problem that stops them."""
@@ -1281,7 +1281,8 @@ def build_suites(build, compiler, staged, problems, tasks, clocks, remembered=Tr
         if task in problems:
             compiler.put_stub(task)
             continue
-        print(f"grade: {task_name(task)}: compiling {TASK_FILE[task]}", flush=True)
+        if not quiet:
+            print(f"grade: {task_name(task)}: compiling {TASK_FILE[task]}", flush=True)
         limit = max(min(clocks[task].limits.compile, clocks[task].left), time_limits.MINIMUM_START_SECONDS)
         problem, compile_seconds[task] = compiler.compile(task, source, limit, remembered=remembered)
         clocks[task].spend(compile_seconds[task], building=True)
