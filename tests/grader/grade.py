@@ -245,7 +245,7 @@ class Build:
     @functools.cached_property
     def stubs(self):
         """{task: the stand-in for a task file that is missing or does not compile}: an object
-        file, or a program for a program task (the build lists them in tests/grader/stubs.txt)."""
+        file, or a program for a program task (the build lists them, in a file stubs.txt)."""
         lines = (self.folder / "tests" / "grader" / "stubs.txt").read_text().splitlines()
         return {task: Path(path) for task, path in (line.split(" ", 1) for line in lines if line.strip())}
 
