@@ -651,8 +651,12 @@ class TestServer:
         sent = False
         while status is None:
             if self.ready and not sent:
-                self.process.stdin.write(" ".join([name, folder, token, f"{cpu_limit:.3f}", *variables]).encode() + b"\n")
-                self.process.stdin.flush()
+                try:
+                    self.process.stdin.write(" ".join([name, folder, token, f"{cpu_limit:.3f}", *variables]).encode()
+                                             + b"\n")
+                    self.process.stdin.flush()
+                except OSError:  # the server has ended: told below
+                    self.alive = False
                 sent = True
             for report in self.read_reports():
                 words = report.split()
@@ -667,9 +671,13 @@ class TestServer:
                 break
             if self.ready and not sent:
                 continue
-            if not self.alive:  # the server ended: a crash before main() or in it, or killed below
-                status = self.process.wait()
-                cpu = max(cpu, 0.0)
+            if not self.alive:  # the server ended (a crash before or in main()), or stopped answering
+                try:
+                    status = self.process.wait(timeout=5)
+                except subprocess.TimeoutExpired:
+                    kill_group(self.process)
+                    status = self.process.returncode
+                self.processes.finished(self.process)
                 break
             # Before the test started, the server's own start counts (a submission's global
             # constructors run in it).
@@ -689,6 +697,8 @@ class TestServer:
             ready, _, _ = select.select([self.reports, self.output], [], [], max(min(left, 0.5), 0.01) if not stopped else 0.1)
             if self.output in ready:
                 collect()
+        if pid:
+            kill_process_group(pid)  # what the test started and left running
         collect()
         return status, cpu, stopped, bytes(output), dropped
 
@@ -1324,7 +1334,7 @@ def build_suites(build, compiler, staged, problems, tasks, clocks, remembered=Tr
 
 
 def run_tests(results, build, sandbox, scratch, clocks, jobs, cache, quiet=False):
-    """Runs every test of every task in its own process, `jobs` at a time, each task's within its
+    """Runs every test of every task in a process of its own, `jobs` at a time, each task's within its
     budget. The suites are copied out of the build (which may sit where the test user cannot go,
     such as under /root) into a folder it can read but not change."""
     suites = {}

@@ -383,9 +383,9 @@ def write_gradescope_failure(results, message, details):
 def run_grader(submission, results_folder, cutoff, grade_options=()):
     """Runs grade.py with the reference code for the other tasks and the platforms' time limits;
     its output goes to ours. None if it did not finish within `cutoff` seconds. As root
-    (Gradescope), the tests run as an unprivileged user, to whom the reference solutions are
-    unreadable while the submitted files are preprocessed and compiled (--protect-reference);
-    Autolab runs jobs unprivileged, so there a handin could include them."""
+    (Gradescope), the submitted files are compiled and the tests run as an unprivileged user, to
+    whom the reference solutions and the grader's build are unreadable while grading
+    (--protect-reference); Autolab runs jobs unprivileged, so there a handin could include them."""
     command = ["/usr/bin/python3", str(REPO / GRADE), "--submission", str(submission), "--results",
                str(results_folder), "--dependencies", "reference", *PLATFORM_GRADE_OPTIONS, *grade_options]
     if os.geteuid() == 0:

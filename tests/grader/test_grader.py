@@ -189,7 +189,7 @@ class GradesKnownSubmissions(unittest.TestCase):
         (scores, maxima, report, _, _), elapsed, leftovers = grade_alone(
             submission_from_solutions(**hostile), "--limits", "fixed", "--timeout", str(timeout), "--task-budget", "30")
         self.check_gradescope_format(report)
-        for task in ["init_billiard", "init_velocities", "propagate", "kinetic_energy"]:
+        for task in ["init_billiard", "init_velocities", "propagate", "kinetic_energy", "walls"]:
             self.assertEqual(scores[task], 0, f"{task} misbehaves and must score 0")
         for task in ["visualize_table", "movie"]:
             self.assertEqual(scores[task], maxima[task], f"{task} is correct and must keep full points")
@@ -203,6 +203,8 @@ class GradesKnownSubmissions(unittest.TestCase):
         self.assertIn("SIGSEGV", crash)
         early = next(text for name, text in outputs.items() if name.startswith("init_billiard:"))
         self.assertIn("exit()", early)
+        before_main = [text for name, text in outputs.items() if name.startswith("walls:")]
+        self.assertTrue(before_main and all("exit()" in text or "hidden" in text for text in before_main), before_main)
         self.assertTrue(all(len(text) < 10_000 for text in outputs.values()), "feedback must be capped")
         self.assertEqual(leftovers, [], "the processes that left their tests are stopped")
 
