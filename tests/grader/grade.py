@@ -392,9 +392,11 @@ class TaskFileCompiler:
         if target.is_file() and label.is_file() and label.read_text() == key:
             return
         label.unlink(missing_ok=True)
-        shutil.copyfile(compiled, target)
-        os.chmod(target, 0o755)
-        label.write_text(key)
+        partial = target.with_name(target.name + ".partial")  # a new file, whoever owned the old one
+        shutil.copyfile(compiled, partial)
+        os.chmod(partial, 0o755)
+        os.replace(partial, target)
+        write_atomically(label, key)
 
     def put_stub(self, task):
         stub = self.build.stubs[task]

@@ -2,7 +2,8 @@
 """Packages the course for the grading platforms, and exports the student release.
 
     /usr/bin/python3 tests/grader/package.py gradescope OUT.zip          Gradescope autograder zip
-    /usr/bin/python3 tests/grader/package.py autolab OUT_DIR             autograde-Makefile, autograde.tar
+    /usr/bin/python3 tests/grader/package.py autolab OUT_DIR             autograde-Makefile, autograde.tar,
+                                                                         autograding-image.sh
     /usr/bin/python3 tests/grader/package.py classroom [--check]         .github/workflows/classroom.yml
     /usr/bin/python3 tests/grader/package.py student-release OUT_DIR     the students' repository
 
@@ -14,14 +15,19 @@ with the release preset unless --tests names a folder that holds them.
 
 Inside the packages, the platforms run this script again (not for instructors' use):
 
-    package.py gradescope-setup   setup.sh's work: check and pre-build the grader's build
+    package.py gradescope-setup   setup.sh's work: build the grader, measure the reference
+                                  solutions, check that they score full points
     package.py gradescope-run     run_autograder's work: find the task files, grade, results.json
+    package.py autolab-setup      the autograding image's set-up: build the grader, measure the
+                                  reference solutions, let the job's user use that build
     package.py autolab-run        the Autolab driver: find the task files in the handin, grade,
                                   print {"scores": {...}} as the last line
 """
 
 import argparse
 import difflib
+import hashlib
+import io
 import json
 import os
 import re
@@ -67,16 +73,21 @@ INSTRUCTORS_BLOCK = re.compile(r"<!-- instructors -->.*?<!-- /instructors -->\n?
 
 # The driver's cut-off for one grading run, above the bound below (it only catches a grader that
 # is itself broken) and below the platform's limit, so that results are still written:
-# Gradescope's default limit is 10 minutes; Autolab's limit is at most 899 s.
+# Gradescope's default limit is 10 minutes; Autolab's default autograding timeout is 180 s, which
+# a job fits when the autograding image holds the grader, built (autograding-image.sh), and at
+# most 899 s, which a job that builds the grader itself needs.
 GRADESCOPE_CUTOFF = 9 * 60
 AUTOLAB_CUTOFF = 14 * 60
-AUTOLAB_TIMEOUT = 899  # what instructors set as the assessment's autograding timeout
+AUTOLAB_TIMEOUT = 899  # what instructors set as the autograding timeout for jobs that build the grader
+AUTOLAB_DEFAULT_TIMEOUT = 180
+AUTOLAB_PREBUILT_CUTOFF = 170
 # The grader's own work per submission besides the tasks, allowed for in the stated bounds: on
 # Gradescope, setup.sh has built the grader and measured the reference solutions, so a submission
 # only checks the build (seconds); an Autolab job builds the grader from scratch and measures the
 # reference solutions on its machine (README.md gives the times measured on one core).
 GRADESCOPE_BUILD_ALLOWANCE = 60
 AUTOLAB_BUILD_ALLOWANCE = 300
+AUTOLAB_PREBUILT_ALLOWANCE = 20  # a job with the image's grader: unpacking the handin, checking the build
 # grade.py's time limits on the platforms (README.md, "Time limits"): each test and each task
 # may take ten times what the reference solutions need on the grading machine (time_limits.py),
 # and the tasks' budgets together at most PLATFORM_TOTAL seconds (scaled down on a machine so slow
@@ -84,6 +95,10 @@ AUTOLAB_BUILD_ALLOWANCE = 300
 # platform's limit, and only a misbehaving task loses points.
 PLATFORM_TOTAL = 420
 PLATFORM_GRADE_OPTIONS = ["--limits", "reference", "--total", str(PLATFORM_TOTAL)]
+# An Autolab job with the image's grader fits Autolab's default timeout: the budgets add up to at
+# most this (on a fast machine most budgets sit at their floor, so this costs correct code nothing).
+AUTOLAB_PREBUILT_TOTAL = 140
+AUTOLAB_PREBUILT_OPTIONS = ["--limits", "reference", "--total", str(AUTOLAB_PREBUILT_TOTAL)]
 SUBMITTED_FILE_CAP = grade.SUBMITTED_FILE_CAP  # bytes: larger task files are not graded
 ARCHIVE_SCAN_CAP = 256 << 20  # bytes of an archive's (uncompressed) content looked through
 ARCHIVE_MEMBER_CAP = 20_000  # entries of an archive looked at
@@ -380,14 +395,14 @@ def write_gradescope_failure(results, message, details):
     results.write_text(json.dumps(report, indent=2) + "\n")
 
 
-def run_grader(submission, results_folder, cutoff, grade_options=()):
+def run_grader(submission, results_folder, cutoff, grade_options=(), limits=tuple(PLATFORM_GRADE_OPTIONS)):
     """Runs grade.py with the reference code for the other tasks and the platforms' time limits;
     its output goes to ours. None if it did not finish within `cutoff` seconds. As root
     (Gradescope), the submitted files are compiled and the tests run as an unprivileged user, to
     whom the reference solutions and the grader's build are unreadable while grading
     (--protect-reference); Autolab runs jobs unprivileged, so there a handin could include them."""
     command = ["/usr/bin/python3", str(REPO / GRADE), "--submission", str(submission), "--results",
-               str(results_folder), "--dependencies", "reference", *PLATFORM_GRADE_OPTIONS, *grade_options]
+               str(results_folder), "--dependencies", "reference", *limits, *grade_options]
     if os.geteuid() == 0:
         command.append("--protect-reference")
     sys.stdout.flush()
@@ -595,27 +610,63 @@ def read_tar_member(path, member):
 AUTOLAB_FOLDER = "billiard-autograde"
 
 
-def autolab_makefile():
+AUTOLAB_IMAGE_FOLDER = f"/opt/{AUTOLAB_FOLDER}"  # where autograding-image.sh puts the grader
+PACKAGE_ID = ".package-id"  # in the package's folder: which package it is
+
+
+def autolab_makefile(package_id):
     zeros = json.dumps({"scores": {task: 0 for task in TASKS}})
     return f"""# Autolab's autograder for the billiard course, generated by tests/grader/package.py autolab.
 # Autolab copies this file (as Makefile), autograde.tar and the student's handin (a .tar or .zip
 # with the task files <task>.cpp or <task>.c, at any depth) into an empty folder and runs `make`. The last
 # line of the output is always the scores, {{"scores": {{"<task>": points, ...}}}}; the lines
 # before it are the grader's report, with compiler errors and failing tests, for the student.
+# Where the autograding image holds the grader of this very package (autograding-image.sh), a
+# job grades with it; otherwise it unpacks autograde.tar and builds the grader first.
 {textwrap.fill(autolab_bound(), 96, initial_indent="# ", subsequent_indent="# ")}
+BILLIARD_GRADER ?= {AUTOLAB_IMAGE_FOLDER}
 all:
-\t@tar -xf autograde.tar && /usr/bin/python3 {AUTOLAB_FOLDER}/tests/grader/package.py autolab-run . \\
-\t  || (echo "The autograder failed before it could grade the handin; tell the course staff."; echo '{zeros}')
+\t@if [ "$$(cat $(BILLIARD_GRADER)/{PACKAGE_ID} 2>/dev/null)" = "{package_id}" ]; then \\
+\t  /usr/bin/python3 $(BILLIARD_GRADER)/tests/grader/package.py autolab-run . --prebuilt; \\
+\telse \\
+\t  tar -xf autograde.tar && /usr/bin/python3 {AUTOLAB_FOLDER}/tests/grader/package.py autolab-run .; \\
+\tfi || (echo "The autograder failed before it could grade the handin; tell the course staff."; echo '{zeros}')
+"""
+
+
+AUTOLAB_IMAGE_SCRIPT = f"""#!/bin/sh
+# Sets up Autolab's autograding image for the billiard course: run it once, as root, where the
+# image is built, e.g. in its Dockerfile:
+#     COPY autograde.tar autograding-image.sh /tmp/
+#     RUN sh /tmp/autograding-image.sh /tmp/autograde.tar
+# It installs the Debian packages the grader needs, unpacks the course into
+# {AUTOLAB_IMAGE_FOLDER} (BILLIARD_GRADER sets another folder), builds the grader, measures what the
+# reference solutions need on this machine (the time limits are ten times that), checks that they
+# score full points, and lets the job's user use that build. Each job then only grades, within
+# Autolab's default autograding timeout of {AUTOLAB_DEFAULT_TIMEOUT} s. Generated by tests/grader/package.py autolab.
+set -eu
+package=$(cd "$(dirname "${{1:?usage: autograding-image.sh AUTOGRADE_TAR}}")" && pwd)/$(basename "$1")
+folder=${{BILLIARD_GRADER:-{AUTOLAB_IMAGE_FOLDER}}}
+rm -rf "$folder"
+mkdir -p "$folder"
+tar -xf "$package" -C "$folder" --strip-components=1
+cd "$folder"
+./build.sh setup
+/usr/bin/python3 tests/grader/package.py autolab-setup
 """
 
 
 def autolab_bound():
-    return (f"A job takes at most {PLATFORM_TOTAL + AUTOLAB_BUILD_ALLOWANCE} s on one core, however the handin "
-            f"misbehaves: the grader's build from scratch and the measuring of the reference solutions on the job's "
-            f"machine (allowed {AUTOLAB_BUILD_ALLOWANCE} s) plus the {len(TASKS)} tasks' budgets (ten times what "
-            f"the reference solutions need there; at most {PLATFORM_TOTAL} s together); the driver stops the grader "
-            f"after {AUTOLAB_CUTOFF} s, so the scores line always comes before an autograding timeout of "
-            f"{AUTOLAB_TIMEOUT} s.")
+    return (f"With the grader in the autograding image (autograding-image.sh), a job takes at most "
+            f"{AUTOLAB_PREBUILT_TOTAL + AUTOLAB_PREBUILT_ALLOWANCE} s, however the handin misbehaves: the {len(TASKS)} "
+            f"tasks' budgets (ten times what the reference solutions need on the image's machine; at most "
+            f"{AUTOLAB_PREBUILT_TOTAL} s together) plus {AUTOLAB_PREBUILT_ALLOWANCE} s for the rest; the driver stops "
+            f"the grader after {AUTOLAB_PREBUILT_CUTOFF} s, within Autolab's default autograding timeout of "
+            f"{AUTOLAB_DEFAULT_TIMEOUT} s. Without it, a job takes at most {PLATFORM_TOTAL + AUTOLAB_BUILD_ALLOWANCE} s on "
+            f"one core: the grader's build from scratch and the measuring of the reference solutions on the job's "
+            f"machine (allowed {AUTOLAB_BUILD_ALLOWANCE} s) plus the tasks' budgets (at most {PLATFORM_TOTAL} s "
+            f"together); the driver stops the grader after {AUTOLAB_CUTOFF} s, so the scores line always comes before "
+            f"an autograding timeout of {AUTOLAB_TIMEOUT} s.")
 
 
 def command_autolab(arguments):
@@ -624,7 +675,10 @@ def command_autolab(arguments):
     check_sources(files)
     points = task_points(arguments.tests)
     out.mkdir(parents=True, exist_ok=True)
-    (out / "autograde-Makefile").write_text(autolab_makefile())
+    digest = hashlib.sha256()
+    for path in files:
+        digest.update(path.encode() + b"\0" + (REPO / path).read_bytes() + b"\0")
+    package_id = digest.hexdigest()[:16]
     partial = out / "autograde.tar.partial"
     with tarfile.open(partial, "w", format=tarfile.PAX_FORMAT) as archive:
         for path in files:
@@ -634,13 +688,45 @@ def command_autolab(arguments):
             info.uname = info.gname = ""
             with open(REPO / path, "rb") as source:
                 archive.addfile(info, source)
+        info = tarfile.TarInfo(f"{AUTOLAB_FOLDER}/{PACKAGE_ID}")
+        info.size, info.mode = len(package_id), 0o644
+        archive.addfile(info, io.BytesIO(package_id.encode()))
     os.replace(partial, out / "autograde.tar")
-    print(f"wrote {out / 'autograde-Makefile'} and {out / 'autograde.tar'} ({len(files)} files of the project)")
+    (out / "autograde-Makefile").write_text(autolab_makefile(package_id))
+    (out / "autograding-image.sh").write_text(AUTOLAB_IMAGE_SCRIPT)
+    os.chmod(out / "autograding-image.sh", 0o755)
+    print(f"wrote {out / 'autograde-Makefile'}, {out / 'autograde.tar'} ({len(files)} files of the project) and "
+          f"{out / 'autograding-image.sh'}")
     print("Autolab problems (names and maximum scores):")
     for task in TASKS:
         print(f"  {task}  {points[task]}" + ("  (optional: extra credit)" if grade.is_optional(task) else ""))
-    print(f"Autolab settings: handin file name handin.tar; autograding timeout {AUTOLAB_TIMEOUT} s (the most Autolab "
-          "allows).")
+    print(f"Autolab settings: handin file name handin.tar. Autograding image: run autograding-image.sh where it is "
+          f"built; then the default autograding timeout of {AUTOLAB_DEFAULT_TIMEOUT} s is enough. Without it, set "
+          f"the timeout to {AUTOLAB_TIMEOUT} s (the most Autolab allows).")
+    print(autolab_bound())
+    return 0
+
+
+def command_autolab_setup(arguments):
+    """The autograding image's set-up (autograding-image.sh): grades the reference solutions with
+    the limits of a job (building the grader and measuring them on the way), then lets any user,
+    the job's among them, use the grader's build."""
+    results = Path(tempfile.mkdtemp(prefix="billiard-setup-"))
+    try:
+        done = subprocess.run(["/usr/bin/python3", str(REPO / GRADE), "--submission", str(REPO / "solutions"),
+                               "--results", str(results), "--dependencies", "reference", "--require-full", "--brief",
+                               *AUTOLAB_PREBUILT_OPTIONS])
+    finally:
+        shutil.rmtree(results, ignore_errors=True)
+    if done.returncode != 0:
+        print("package: the reference solutions do not score full points here: the autograder is not usable",
+              file=sys.stderr)
+        return 1
+    # Each job runs in a container of its own, as an unprivileged user, and writes into the build.
+    grading = REPO / "build" / "grade"
+    for path in [grading, *grading.rglob("*")]:
+        if not path.is_symlink():
+            os.chmod(path, path.stat().st_mode | (0o777 if path.is_dir() else 0o666))
     print(autolab_bound())
     return 0
 
@@ -659,7 +745,11 @@ def command_autolab_run(arguments):
         _, notes = find_task_files(handins, work / "submission")
         print("\n".join(notes), flush=True)
         results = work / "results"
-        done = run_grader(work / "submission", results, AUTOLAB_CUTOFF)
+        if arguments.prebuilt:
+            done = run_grader(work / "submission", results, AUTOLAB_PREBUILT_CUTOFF,
+                              limits=tuple(AUTOLAB_PREBUILT_OPTIONS))
+        else:
+            done = run_grader(work / "submission", results, AUTOLAB_CUTOFF)
         if done is None or done.returncode != 0 or not (results / "results.json").is_file():
             print("The grader failed, so the handin could not be graded; this is not a problem of your code. "
                   "Please tell the course staff.")
@@ -747,8 +837,10 @@ def parse_arguments(argv):
     command.add_argument("--no-git", action="store_true", help="do not make it a git repository")
     commands.add_parser("gradescope-setup", help="(inside the Gradescope package) setup.sh's work")
     commands.add_parser("gradescope-run", help="(inside the Gradescope package) run_autograder's work")
+    commands.add_parser("autolab-setup", help="(inside the Autolab package) autograding-image.sh's work")
     command = commands.add_parser("autolab-run", help="(inside the Autolab package) grade the handin in FOLDER")
     command.add_argument("folder", metavar="FOLDER")
+    command.add_argument("--prebuilt", action="store_true", help="with the grader the autograding image holds")
     return parser.parse_args(argv)
 
 
@@ -758,6 +850,7 @@ def main(argv=None):
         "gradescope": command_gradescope, "autolab": command_autolab, "classroom": command_classroom,
         "student-release": command_student_release, "gradescope-setup": command_gradescope_setup,
         "gradescope-run": command_gradescope_run, "autolab-run": command_autolab_run,
+        "autolab-setup": command_autolab_setup,
     }[arguments.command]
     return handler(arguments)
 

@@ -337,9 +337,15 @@ class Bounds(unittest.TestCase):
             f"tasks' budgets and {package.GRADESCOPE_BUILD_ALLOWANCE} s allowed for checking the prebuilt grader",
             f"the driver stops the grader after {package.GRADESCOPE_CUTOFF} s",
             f"most {package.PLATFORM_TOTAL + package.AUTOLAB_BUILD_ALLOWANCE} s on one core "
-            f"({package.AUTOLAB_BUILD_ALLOWANCE} s allowed for that, {package.PLATFORM_TOTAL} s for the tasks' budgets)",
-            f"the driver stops the grader after {package.AUTOLAB_CUTOFF} s",
-            f"the autograding timeout to {package.AUTOLAB_TIMEOUT} s",
+            f"({package.AUTOLAB_BUILD_ALLOWANCE} s allowed for the build and the measuring, {package.PLATFORM_TOTAL} s "
+            "for the tasks' budgets; the driver stops",
+            f"the grader after {package.AUTOLAB_CUTOFF} s",
+            f"timeout to {package.AUTOLAB_TIMEOUT} s",
+            f"A job then only grades: at most {package.AUTOLAB_PREBUILT_TOTAL + package.AUTOLAB_PREBUILT_ALLOWANCE} s "
+            f"(the tasks' budgets, at most {package.AUTOLAB_PREBUILT_TOTAL} s together, and "
+            f"{package.AUTOLAB_PREBUILT_ALLOWANCE} s for the rest; the driver stops the grader after "
+            f"{package.AUTOLAB_PREBUILT_CUTOFF} s), within Autolab's default autograding timeout of "
+            f"{package.AUTOLAB_DEFAULT_TIMEOUT} s",
         ]
         self.assertEqual(limits.WALL_SLACK, 2, "the README says 'twice'")
         missing = [statement for statement in statements if statement not in readme]
@@ -349,6 +355,9 @@ class Bounds(unittest.TestCase):
         self.assertLess(package.GRADESCOPE_CUTOFF, 600)  # Gradescope's default timeout: 10 minutes
         self.assertLess(package.PLATFORM_TOTAL + package.AUTOLAB_BUILD_ALLOWANCE, package.AUTOLAB_CUTOFF)
         self.assertLess(package.AUTOLAB_CUTOFF, package.AUTOLAB_TIMEOUT)
+        self.assertLess(package.AUTOLAB_PREBUILT_TOTAL + package.AUTOLAB_PREBUILT_ALLOWANCE,
+                        package.AUTOLAB_PREBUILT_CUTOFF)
+        self.assertLess(package.AUTOLAB_PREBUILT_CUTOFF, package.AUTOLAB_DEFAULT_TIMEOUT)
 
 
 class Classroom(unittest.TestCase):
@@ -657,9 +666,10 @@ class Autolab(unittest.TestCase):
         bound = package.PLATFORM_TOTAL + package.AUTOLAB_BUILD_ALLOWANCE
         self.assertLess(bound, package.AUTOLAB_CUTOFF)
         self.assertLess(package.AUTOLAB_CUTOFF, package.AUTOLAB_TIMEOUT)
-        self.assertIn(f"autograding timeout {package.AUTOLAB_TIMEOUT} s", listing)
+        self.assertIn(f"set the timeout to {package.AUTOLAB_TIMEOUT} s", listing)
         self.assertIn(f"at most {bound} s on one core", listing)
-        self.assertIn(f"at most {bound} s on one core", (package_folder / "autograde-Makefile").read_text())
+        makefile = " ".join(line.lstrip("# ") for line in (package_folder / "autograde-Makefile").read_text().splitlines())
+        self.assertIn(f"at most {bound} s on one core", makefile)
         tar_path = package_folder / "autograde.tar"
         with tarfile.open(tar_path) as archive:
             names = archive.getnames()
@@ -696,6 +706,56 @@ class Autolab(unittest.TestCase):
         # No autograde.tar at all: the Makefile's own fallback.
         scores, output = self.run_job(base / "job-empty", package_folder, handin, None)
         self.assertEqual(scores, {task: 0 for task in TASKS}, output)
+
+    def test_grader_in_the_autograding_image_fits_the_default_timeout(self):
+        # autograding-image.sh sets up the grader where the image is built; a job, run as an
+        # unprivileged user as Autolab runs it, then only grades, within the default timeout.
+        base = fresh(WORK / "autolab-image")
+        package_folder = base / "package"
+        listing = package_command("autolab", str(package_folder), "--tests", str(TESTS))
+        bound = package.AUTOLAB_PREBUILT_TOTAL + package.AUTOLAB_PREBUILT_ALLOWANCE
+        self.assertLess(bound, package.AUTOLAB_PREBUILT_CUTOFF)
+        self.assertLess(package.AUTOLAB_PREBUILT_CUTOFF, package.AUTOLAB_DEFAULT_TIMEOUT)
+        self.assertIn(f"a job takes at most {bound} s", listing)
+        image = Path(tempfile.mkdtemp(prefix="autolab-image-"))  # where the job's user can go
+        try:
+            folder = image / "opt" / package.AUTOLAB_FOLDER
+            status, output = run(["sh", str(package_folder / "autograding-image.sh"), str(package_folder / "autograde.tar")],
+                                 env=environment(BILLIARD_GRADER=str(folder)))
+            self.assertEqual(status, 0, output[-3000:])
+            handin = image / "handin.zip"
+            with zipfile.ZipFile(handin, "w") as archive:
+                archive.writestr("tasks/visualize_table.cpp", (REPO / "solutions" / "visualize_table.cpp").read_text())
+                archive.writestr("tasks/propagate.cpp", broken_propagate())
+            job = image / "job"
+            job.mkdir()
+            shutil.copyfile(package_folder / "autograde-Makefile", job / "Makefile")
+            shutil.copyfile(package_folder / "autograde.tar", job / "autograde.tar")
+            shutil.copyfile(handin, job / "handin.tar")
+            user = {}
+            if os.geteuid() == 0:
+                for path in [image, *image.rglob("*")]:
+                    if path.is_dir():
+                        os.chmod(path, path.stat().st_mode | 0o755)
+                os.chmod(job, 0o777)
+                user = {"user": "nobody", "group": "nogroup", "extra_groups": []}
+            started = time.monotonic()
+            done = subprocess.run(["make", f"BILLIARD_GRADER={folder}"], cwd=job, stdout=subprocess.PIPE,
+                                  stderr=subprocess.STDOUT, text=True, env=environment(), timeout=600, **user)
+            elapsed = time.monotonic() - started
+            print(f"a job with the image's grader: {elapsed:.0f} s (bound {bound} s)", flush=True)
+            output = done.stdout
+            self.assertEqual(done.returncode, 0, output)
+            scores = json.loads(output.rstrip("\n").splitlines()[-1])["scores"]
+            expected = {task: 0 for task in TASKS}
+            expected["visualize_table"] = maxima()["visualize_table"]
+            self.assertEqual(scores, expected, output[-3000:])
+            self.assertIn("nxt", output)
+            self.assertNotIn("measuring what the reference solutions need", output, "the image measured them")
+            self.assertFalse((job / package.AUTOLAB_FOLDER).exists(), "the job used the image's grader")
+            self.assertLess(elapsed, bound)
+        finally:
+            shutil.rmtree(image, ignore_errors=True)
 
 
 if __name__ == "__main__":
