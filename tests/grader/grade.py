@@ -1168,7 +1168,7 @@ def grade(arguments):
     try:
         with protected(arguments.protect_reference, build):
             compiler = TaskFileCompiler(build, sandbox, arguments.protect_reference, scratch)
-            limits, factor = task_limits(arguments, build, compiler, sandbox, scratch, grading)
+            limits, factor, slower = task_limits(arguments, build, compiler, sandbox, scratch, grading)
             own_build = time.monotonic() - started  # the grader's own work, whatever the submission
             clocks = {task: TaskClock(limits[task]) for task in TASKS}
             results = build_suites(build, compiler, staged, problems, tasks, clocks)
@@ -1183,7 +1183,7 @@ def grade(arguments):
     print_table(results, verbose=not arguments.brief)
     print(f"\nresults: {arguments.results / 'results.json'} (Gradescope) and {arguments.results / 'junit.xml'} (JUnit)")
     print(f"grade: {elapsed:.0f} s in all, of which {own_build:.0f} s for the grader's own build; "
-          + limits_summary(limits, tasks, factor))
+          + limits_summary(limits, tasks, factor, slower))
     return results
 
 
@@ -1209,29 +1209,32 @@ class protected:
 
 
 def task_limits(arguments, build, compiler, sandbox, scratch, grading):
-    """{task: TaskLimits}, and the factor by which --total scaled the budgets down (1 if not).
-    Limits that follow the machine come from the reference's times in the build folder, measured
-    first if they are missing or out of date."""
+    """{task: TaskLimits}, the factor by which --total scaled the budgets down (1 if not), and how
+    many times slower this machine is than where the reference's times were measured (1 if not
+    slower). Limits that follow the machine come from the reference's times in the build folder,
+    measured first if they are missing or out of date."""
+    slower = 1.0
     if arguments.limits == "fixed":
         limits = {task: fixed_limits(task, arguments.timeout, arguments.task_budget, arguments.compile_timeout)
                   for task in TASKS}
     else:
-        times = reference_times(build, compiler, sandbox, scratch, grading, arguments.jobs)
-        limits = {task: measured_limits(task, times[task]) for task in TASKS}
+        saved = reference_times(build, compiler, sandbox, scratch, grading, arguments.jobs)
+        slower = time_limits.slower_than_measured(saved)
+        limits = {task: measured_limits(task, saved["tasks"][task], slower) for task in TASKS}
     factor = time_limits.fit_total(limits, arguments.total) if arguments.total else 1.0
-    return limits, factor
+    return limits, factor, slower
 
 
 def reference_times(build, compiler, sandbox, scratch, grading, jobs):
-    """{task: {"compile", "link", "tests": {name: {"cpu", "wall"}}}}: what the reference solutions
-    need on this machine, from the build folder, or measured now by grading them (every test
-    twice, keeping the longer time) and saved there."""
+    """What the reference solutions need (the saved record, see time_limits.save_reference_times),
+    from the build folder, or measured now by grading them (every test twice, keeping the longer
+    time) and saved there."""
     catalogs = [build.executable(f"catalog_{task}") for task in TASKS]
     solutions = [REPO / "solutions" / TASK_FILE[task] for task in TASKS]
     expected = time_limits.fingerprint(catalogs + solutions, compiler.commands)
     saved = time_limits.load_reference_times(build.folder, expected)
     if saved:
-        return saved["tasks"]
+        return saved
     print("grade: measuring what the reference solutions need on this machine (once for this build folder)",
           flush=True)
     staged, problems = stage_submission(REPO / "solutions", grading, name="reference")
@@ -1258,17 +1261,19 @@ def reference_times(build, compiler, sandbox, scratch, grading, jobs):
                                      for test in result.tests}}
              for result in results}
     time_limits.save_reference_times(build.folder, expected, times)
-    return times
+    return time_limits.load_reference_times(build.folder, expected)
 
 
-def limits_summary(limits, tasks, factor):
+def limits_summary(limits, tasks, factor, slower):
     """One line on the time limits, for the end of the report."""
     budgets = sum(limits[task].budget for task in tasks)
     if not limits[tasks[0]].measured:
         return f"the tasks' time budgets add up to {budgets:.0f} s"
     reference = sum(limits[task].reference_task for task in tasks)
     scaled = f" (scaled down by {factor:.2f} to fit --total)" if factor < 1 else ""
-    return (f"time limits {time_limits.MARGIN} times what the reference solutions need on this machine "
+    measured = (f" (this machine is {slower:.1f} times slower than where they were measured: their times scaled "
+                "so)" if slower > 1 else "")
+    return (f"time limits {time_limits.MARGIN} times what the reference solutions need on this machine{measured} "
             f"({reference:.1f} s for these tasks): budgets adding up to {budgets:.0f} s{scaled}")
 
 

@@ -244,6 +244,32 @@ class GradesKnownSubmissions(unittest.TestCase):
         self.assertIn("not run:", output)
         self.assertEqual(leftovers, [], "the processes that left their tests are stopped")
 
+    def test_a_slower_machine_scales_the_limits(self):
+        # The reference's times as if measured on a machine twice as fast as this one (as when a
+        # platform sets the grader up on a faster machine than it grades on): the grader finds
+        # this machine slower and scales the limits with it.
+        limits = package.grade.time_limits
+        path = BUILD / limits.REFERENCE_TIMES
+        grade(REPO / "solutions", "--task", "kinetic_energy")  # the reference's times are measured
+        saved = path.read_text()
+        record = json.loads(saved)
+        normal = limits.saved_limits(BUILD)["init_billiard"].budget
+        record["speed"] /= 2
+        try:
+            path.write_text(json.dumps(record))
+            scores, maxima, _, _, output = grade(REPO / "solutions", "--task", "init_billiard")
+        finally:
+            path.write_text(saved)
+        self.assertEqual(scores["init_billiard"], maxima["init_billiard"])
+        found = re.search(r"this machine is ([\d.]+) times slower", output)
+        self.assertTrue(found, output[-2000:])
+        self.assertGreater(float(found.group(1)), 1.5)
+        budget = float(re.search(r"budgets adding up to (\d+) s", output).group(1))
+        self.assertGreater(budget, 1.5 * normal, f"init_billiard's budget: {normal:.0f} s, scaled {budget:.0f} s")
+        # And with the times of this machine, no scaling.
+        _, _, _, _, output = grade(REPO / "solutions", "--task", "init_billiard")
+        self.assertNotIn("times slower", output)
+
     def test_compile_error_costs_only_its_own_task(self):
         broken = Path(tempfile.mkdtemp(prefix="broken-")) / "propagate.cpp"
         broken.write_text((REPO / "solutions" / "propagate.cpp").read_text().replace("return next;", "return nxt;"))

@@ -24,8 +24,10 @@ tasks' budgets (plus the grader's own build).
 
 import hashlib
 import json
+import math
 import os
 import platform
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -39,6 +41,10 @@ WALL_SLACK = 2          # a test is stopped after this many times its CPU limit 
 # limit, if that is shorter): a shorter run would stop almost any test.
 MINIMUM_START_SECONDS = 1.0
 REFERENCE_TIMES = "reference-times.json"  # in the grader's build folder
+# A machine this much slower than the one where the reference's times were measured (the
+# platforms measure them where the grader is set up, which need not be where it grades) scales
+# the limits by how much slower it is.
+SLOWER_MACHINE = 1.2
 
 
 @dataclass
@@ -70,10 +76,11 @@ def task_seconds(times):
     return times["compile"] + times["link"] + sum(test["wall"] for test in times["tests"].values())
 
 
-def measured_limits(task, times):
-    """Limits from the reference's times of one task on this machine (see the module's text)."""
-    reference = {name: test["cpu"] for name, test in times["tests"].items()}
-    whole = task_seconds(times)
+def measured_limits(task, times, slower=1.0):
+    """Limits from the reference's times of one task (see the module's text), measured on a
+    machine `slower` times faster than this one."""
+    reference = {name: test["cpu"] * slower for name, test in times["tests"].items()}
+    whole = task_seconds(times) * slower
     budget = max(MIN_TASK_SECONDS, MARGIN * whole)
     return TaskLimits(task, budget=budget, compile=min(budget, max(MIN_TASK_SECONDS, MARGIN * times["compile"])),
                       test_default=MIN_TEST_SECONDS,
@@ -94,6 +101,26 @@ def fit_total(limits, total):
     return factor
 
 
+def machine_speed():
+    """CPU seconds for a fixed piece of work, the fastest of three tries: compared with the same
+    measure where the reference's times were taken, it tells how much slower this machine is."""
+    fastest = math.inf
+    for _ in range(3):
+        started = time.process_time()
+        total = 0
+        for number in range(1_000_000):
+            total += number * number % 7
+        fastest = min(fastest, time.process_time() - started)
+    return fastest
+
+
+def slower_than_measured(saved):
+    """How many times slower this machine is than the one the saved reference times come from, if
+    more than SLOWER_MACHINE; else 1."""
+    ratio = machine_speed() / saved["speed"] if saved.get("speed") else 1.0
+    return ratio if ratio > SLOWER_MACHINE else 1.0
+
+
 def machine():
     """This machine, as the reference's times were measured on it: processor and usable cores."""
     model = platform.processor() or platform.machine()
@@ -108,10 +135,13 @@ def machine():
     return f"{model}, {cores} core{'' if cores == 1 else 's'} usable"
 
 
+RECORD_FORMAT = 2  # of reference-times.json: a record of another format is measured again
+
+
 def fingerprint(paths, words):
     """What the reference's times depend on besides the machine: the suites (their catalogs), the
-    reference solutions and the compile command."""
-    digest = hashlib.sha256(json.dumps(words).encode())
+    reference solutions and the compile command (and the record's format)."""
+    digest = hashlib.sha256(json.dumps([RECORD_FORMAT, words]).encode())
     for path in sorted(paths):
         digest.update(str(path.name).encode() + b"\0" + hashlib.sha256(Path(path).read_bytes()).digest())
     return digest.hexdigest()
@@ -140,11 +170,12 @@ def saved_limits(build_folder):
 
 
 def save_reference_times(build_folder, print_, tasks):
-    """Writes the reference's times: {"fingerprint", "machine", "tasks": {task: {"compile", "link",
-    "tests": {name: {"cpu", "wall"}}}}}."""
+    """Writes the reference's times: {"fingerprint", "machine", "speed" (machine_speed()), "tasks":
+    {task: {"compile", "link", "tests": {name: {"cpu", "wall"}}}}}."""
     path = Path(build_folder) / REFERENCE_TIMES
     partial = path.with_name(path.name + ".partial")
-    partial.write_text(json.dumps({"fingerprint": print_, "machine": machine(), "tasks": tasks}, indent=1) + "\n")
+    partial.write_text(json.dumps({"fingerprint": print_, "machine": machine(), "speed": machine_speed(),
+                                   "tasks": tasks}, indent=1) + "\n")
     os.replace(partial, path)
 
 
