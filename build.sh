@@ -2,7 +2,9 @@
 # The project's commands (see README.md; run and test are the quick start's two):
 #   ./build.sh run  [TABLE_RADIUS CIRCLE_RADIUS N] [billiard options]   build, then run `billiard`
 #                   (in a course of the C track alone: [FILE END_TIME], run `particles`)
-#   ./build.sh test [ctest options]                                     build, then run every test
+#   ./build.sh test [ctest options]                                     build, then run the tests
+#                   (in a student's copy, where there is no solutions/: their tasks' graded suites
+#                   and the commands' tests; every other label runs when named: -L engine)
 #   ./build.sh python                       build the Python module `billiard` and make Debian's
 #                                           /usr/bin/python3 import it (for the notebooks)
 #   ./build.sh grade [grader options]       grade tasks/ per task, as the graders do (--help)
@@ -73,9 +75,15 @@ install_missing_packages() {
 configure() {
   cmake --preset "$BILLIARD_PRESET" "${configure_options[@]}" >/dev/null
 }
-# build_targets [TARGET...]: build the given targets, or everything.
+# build_targets [TARGET...]: build the given targets, or everything. A student's build (the tasks
+# preset) prints only what the compiler says (errors and warnings), not a line per file.
 build_targets() {
-  cmake --build --preset "$BILLIARD_PRESET" ${1:+--target "$@"}
+  local quiet=()
+  if [ "$BILLIARD_PRESET" = tasks ]; then
+    quiet=(-- --quiet)
+    [ -f "build/$BILLIARD_PRESET/.ninja_log" ] || echo "build.sh: building, for the first time (a few minutes)"
+  fi
+  cmake --build --preset "$BILLIARD_PRESET" ${1:+--target "$@"} "${quiet[@]}"
 }
 # build [TARGET...]: configure, then build the given targets, or everything.
 build() {
@@ -110,17 +118,53 @@ read_label_options() {
 }
 
 # targets_for_labels: sets `targets` to what the tests with those labels run, so that a
-# student's `./build.sh test -L propagate` builds only that task's suite. Empty (build
-# everything) when no label is selected, or one is a pattern or a label whose tests have not
-# declared what they need (build/<preset>/test_labels.txt).
+# student's `./build.sh test -L propagate` builds only that task's suite. A label may be a list
+# of labels, "graded|cli" or "^(graded|cli)$". Empty (build everything) when no label is
+# selected, or one is another pattern or a label whose tests have not declared what they need
+# (build/<preset>/test_labels.txt).
 targets_for_labels() {
   targets=()
-  local list=build/$BILLIARD_PRESET/test_labels.txt label
+  local list=build/$BILLIARD_PRESET/test_labels.txt label word words
   [ ${#labels[@]} -gt 0 ] && [ -f "$list" ] || return 0
   for label in "${labels[@]}"; do
-    if ! grep -qxF -- "$label" "$list"; then targets=(); return 0; fi
-    targets+=("tests_$label")
+    label=${label#^}; label=${label%\$}; label=${label#(}; label=${label%)}
+    IFS='|' read -ra words <<< "$label"
+    for word in "${words[@]}"; do
+      if ! grep -qxF -- "$word" "$list"; then targets=(); return 0; fi
+      targets+=("tests_$word")
+    done
   done
+}
+
+# The tests of a student's run (the tasks preset, no label named): the graded suites of their
+# tasks and the tests of the `billiard` and `particles` commands. The engine's, the stepper's, the
+# Python module's, the notebooks', the fuzz and the benchmark's tests run when named (-L engine).
+STUDENT_LABELS=(graded cli collisions)
+
+# student_run: true for `./build.sh test` in a student's build with no label named.
+student_run() {
+  [ "$BILLIARD_PRESET" = tasks ] && [ ${#labels[@]} -eq 0 ] && [ "$label_exclude" = 0 ]
+}
+
+# select_student_labels: the student's labels this course has (the C track alone has no `billiard`
+# command), as one ctest label pattern in `labels`.
+select_student_labels() {
+  local list=build/$BILLIARD_PRESET/test_labels.txt label present=()
+  for label in "${STUDENT_LABELS[@]}"; do
+    grep -qxF -- "$label" "$list" && present+=("$label")
+  done
+  labels=("^($(IFS='|'; echo "${present[*]}"))\$")
+}
+
+# needs_python: whether the selected tests may include the Python module's or the notebooks'
+# (every test, or a label that names them or is a pattern).
+needs_python() {
+  local label
+  if [ ${#labels[@]} -eq 0 ]; then ! student_run; return; fi
+  for label in "${labels[@]}"; do
+    [[ "$label" =~ python|notebooks|[.*+?\[] ]] && return 0
+  done
+  return 1
 }
 
 # excluded_labels_named: sets `include_excluded` to "-LE ^$" (exclude nothing) when a selected
@@ -165,21 +209,42 @@ case "$command" in
     exec "$dir/$course/particles" "$@"
     ;;
   test)
-    install_missing_packages "${python_packages[@]}" "${test_packages[@]}"
-    configure_options=(-DBILLIARD_PYTHON=ON)  # the module and notebooks are tested: never skip them
-    configure
     read_label_options "$@"
+    if needs_python; then
+      install_missing_packages "${python_packages[@]}" "${test_packages[@]}"
+      configure_options=(-DBILLIARD_PYTHON=ON)  # the module and notebooks are tested: never skip them
+    else
+      install_missing_packages
+    fi
+    configure
+    student=()
+    if student_run; then
+      select_student_labels
+      student=(-L "${labels[0]}")
+    fi
     targets_for_labels
     excluded_labels_named
     build_targets "${targets[@]}"
-    register_python_module >/dev/null
+    needs_python && register_python_module >/dev/null
     status=0
     results=$PWD/build/$BILLIARD_PRESET/Testing/results.xml
     rm -f "$results"
-    ctest --preset "$BILLIARD_PRESET" --output-junit "$results" "$@" "${include_excluded[@]}" || status=$?
-    print_fuzz_counts
+    progress_options=()
+    if [ ${#student[@]} -gt 0 ] && [ $# -eq 0 ]; then
+      # A student's whole run: each test's own output goes to the log; the block below says
+      # where the tasks stand, and `-L <task>` shows a task's messages.
+      log=build/$BILLIARD_PRESET/Testing/output.log
+      mkdir -p "${log%/*}"
+      echo "build.sh: running the tests of your tasks and of the commands (every test's output: $log)"
+      ctest --preset "$BILLIARD_PRESET" --output-junit "$results" "${student[@]}" >"$log" 2>&1 || status=$?
+      [ -f "$results" ] || tail -n 20 "$log"
+      progress_options=(--counts)
+    else
+      ctest --preset "$BILLIARD_PRESET" --output-junit "$results" "${student[@]}" "$@" "${include_excluded[@]}" || status=$?
+      print_fuzz_counts
+    fi
     # Where the tasks stand and what to do next, in a few lines (tests/grader/progress.py).
-    [ -f "$results" ] && /usr/bin/python3 tests/grader/progress.py "$results"
+    [ -f "$results" ] && /usr/bin/python3 tests/grader/progress.py "${progress_options[@]}" "$results"
     exit "$status"
     ;;
   python)

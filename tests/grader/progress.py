@@ -1,11 +1,13 @@
 #!/usr/bin/python3
 """The course's tasks, and where a student stands in them after a run of the tests.
 
-    /usr/bin/python3 tests/grader/progress.py JUNIT_XML
+    /usr/bin/python3 tests/grader/progress.py [--counts] JUNIT_XML
 
 reads the JUnit file of a CTest run (ctest --output-junit, as ./build.sh test writes it) and
 prints one short block: each task whose tests ran and how it stands, then what to do next (the
-first task that is not written or not passing, and the command that runs its tests). The grader
+first task that is not written or not passing, and the command that runs its tests; once the
+tasks that ran pass, the next task). --counts starts the block with how many tests passed,
+failed and were skipped, for a run whose own output was not shown. The grader
 (grade.py) ends its report with the same "Next:" lines. Exit status 0, or 2 for a missing or
 unreadable file.
 
@@ -161,19 +163,25 @@ def next_step(progress, other_failing=(), waiting=0):
                     " (an optional extension stage: extra credit)"
         else:
             first = f"Next: {task_name(task)}, starting with its first failing test, {item.failing[0]}:"
-            details = [f"  {shortened(line)}" for line in item.first_message] or ["  (its message is above)"]
+            details = [f"  {shortened(line)}" for line in item.first_message] or \
+                [f"  (its message: ./build.sh test -R '{item.failing[0]}')"]
             return [first, *details, f"  Fix tasks/{TASK_FILE[task]}, then run: {run_command(task)}"]
         return [first, f"  then run: {run_command(task)}"]
     if other_failing:
         return [f"Next: every task that ran passes, but {len(other_failing)} other test(s) fail; start with "
-                f"{other_failing[0]} (its message is above)",
-                f"  then run: ./build.sh test -R '{other_failing[0]}'"]
+                f"{other_failing[0]}, whose message this shows:",
+                f"  ./build.sh test -R '{other_failing[0]}'"]
     if len(progress) == len(TASKS):
         return ["Next: nothing; every test passed. Well done."]
-    if waiting:
-        return [f"All tests that ran passed ({waiting} wait for tasks not written yet).",
-                "  Next: ./build.sh test shows where every task stands"]
-    return ["All tests that ran passed. Next: ./build.sh test shows where every task stands"]
+    # Only some tasks ran (./build.sh test -L <task>) and they pass: the next task after them.
+    last_passing = max((TASK_NUMBER[item.task] for item in progress), default=0)
+    later = [task for task in TASKS if TASK_NUMBER[task] > last_passing]
+    if later:
+        task = later[0]
+        optional = " (optional: extra credit)" if is_optional(task) else ""
+        return [f"Next: {task_name(task)} in tasks/{TASK_FILE[task]}{optional}",
+                f"  then run: {run_command(task)}"]
+    return ["Every task that ran passes. Next: ./build.sh test, to see every task pass together"]
 
 
 def shortened(line, limit=160):
@@ -209,16 +217,35 @@ def report(progress, other_failing, waiting):
     lines = []
     if progress:
         width = max(len(task) for task in TASKS)
+        number_width = max(len(str(TASK_NUMBER[task])) for task in TASKS)
         lines.append("Where the tasks stand:")
         for item in sorted(progress, key=lambda p: TASK_NUMBER[p.task]):
             optional = " (optional)" if is_optional(item.task) else ""
-            lines.append(f"  {TASK_NUMBER[item.task]} {item.task:<{width}}  {item.state()}{optional}")
+            lines.append(f"  {TASK_NUMBER[item.task]:>{number_width}} {item.task:<{width}}  {item.state()}{optional}")
     return lines + next_step(progress, other_failing, waiting)
 
 
+def counts(path):
+    """One line: how many tests ran and how they ended (for a run whose own output was not shown)."""
+    ended = {"passed": 0, "failed": 0, "skipped": 0}
+    for case in ET.parse(path).getroot().iter("testcase"):
+        status = case.get("status", "")
+        if status == "run":
+            ended["passed"] += 1
+        elif status in ("notrun", "disabled") and case.find("skipped") is not None:
+            ended["skipped"] += 1
+        else:
+            ended["failed"] += 1
+    waiting = " (waiting for a task)" if ended["skipped"] else ""
+    return (f"{sum(ended.values())} tests: {ended['passed']} passed, {ended['failed']} failed, "
+            f"{ended['skipped']} skipped{waiting}")
+
+
 def main(argv):
+    with_counts = "--counts" in argv
+    argv = [argument for argument in argv if argument != "--counts"]
     if len(argv) != 1:
-        print("usage: progress.py JUNIT_XML", file=sys.stderr)
+        print("usage: progress.py [--counts] JUNIT_XML", file=sys.stderr)
         return 2
     try:
         ran = ET.parse(argv[0]).getroot().find(".//testcase") is not None
@@ -227,7 +254,7 @@ def main(argv):
         print(f"progress: cannot read the test results {argv[0]}: {error}", file=sys.stderr)
         return 2
     if ran:  # nothing to say when no test ran (ctest -N)
-        print("\n" + "\n".join(report(*found)))
+        print("\n" + "\n".join(([counts(argv[0])] if with_counts else []) + report(*found)))
     return 0
 
 

@@ -63,8 +63,8 @@ class Report(unittest.TestCase):
                  ("init_billiard.A.AlsoFails", "fail", "Expected: x\nYour code: y\nHint: z\n"),
                  ("init_velocities.B.X", "fail", stub_message("init_velocities"))]
         lines = block(cases)
-        self.assertIn("  1 init_billiard    2 of 3 tests fail", lines)
-        self.assertIn("  2 init_velocities  not written yet", lines)
+        self.assertIn("   1 init_billiard    2 of 3 tests fail", lines)
+        self.assertIn("   2 init_velocities  not written yet", lines)
         next_at = lines.index(next(line for line in lines if line.startswith("Next:")))
         self.assertIn("init_billiard.A.Fails", lines[next_at])
         self.assertEqual(lines[next_at + 1:], ["  Expected: 3 rows", "  Your code: 2 rows", "  Hint: one row per circle",
@@ -72,21 +72,49 @@ class Report(unittest.TestCase):
 
     def test_a_task_waiting_for_an_earlier_one_points_to_that_one(self):
         lines = block([("movie.M.X", "fail", stub_message("propagate"))])
-        self.assertIn("  5 movie            waits for task 4 (propagate)", lines)
+        self.assertIn("   5 movie            waits for task 4 (propagate)", lines)
         self.assertEqual(lines[-2], "Next: write task 4 (propagate) in tasks/propagate.cpp")
 
     def test_passing_tasks_then_other_failures(self):
         lines = block([("propagate.P.X", "run", ""), ("notebooks.02_energy_drift", "fail", "Traceback ...")])
-        self.assertIn("  4 propagate        passes its test", lines)
+        self.assertIn("   4 propagate        passes its test", lines)
         self.assertIn("notebooks.02_energy_drift", lines[-2])
-        self.assertEqual(lines[-1], "  then run: ./build.sh test -R 'notebooks.02_energy_drift'")
+        self.assertEqual(lines[-1], "  ./build.sh test -R 'notebooks.02_energy_drift'")
 
     def test_everything_passing(self):
         lines = block([(f"{task}.S.X", "run", "") for task in progress.TASKS] + [("engine.E.X", "run", "")])
         self.assertEqual(lines[-1], "Next: nothing; every test passed. Well done.")
-        partial = block([("kinetic_energy.S.X", "run", ""), ("kinetic_energy.S.Y", "run", "")])
-        self.assertIn("  6 kinetic_energy   passes all 2 tests", partial)
-        self.assertIn("./build.sh test shows where every task stands", partial[-1])
+        with mock.patch.object(progress, "OPTIONAL", []):
+            partial = block([("kinetic_energy.S.X", "run", ""), ("kinetic_energy.S.Y", "run", "")])
+        self.assertIn("   6 kinetic_energy   passes all 2 tests", partial)
+        self.assertEqual(partial[-2:], ["Next: task 7 (gravity) in tasks/gravity.cpp",
+                                        "  then run: ./build.sh test -L gravity"])
+
+    def test_a_task_that_passes_alone_points_to_the_next_task(self):
+        lines = block([("init_billiard.S.X", "run", ""), ("cli.Cli.Run", "skipped", "skipped: " + stub_message("init_velocities"))])
+        self.assertEqual(lines[-2:], ["Next: task 2 (init_velocities) in tasks/init_velocities.cpp",
+                                      "  then run: ./build.sh test -L init_velocities"])
+        # The last task passing alone: now the whole run, to see every task pass together.
+        last = progress.TASKS[-1]
+        lines = block([(f"{last}.S.X", "run", "")])
+        self.assertEqual(lines[-1], "Every task that ran passes. Next: ./build.sh test, to see every task pass together")
+        # An optional next task says so.
+        with mock.patch.object(progress, "OPTIONAL", ["gravity"]):
+            lines = block([("kinetic_energy.S.X", "run", "")])
+        self.assertEqual(lines[-2], "Next: task 7 (gravity) in tasks/gravity.cpp (optional: extra credit)")
+
+    def test_counts_say_how_the_tests_ended(self):
+        cases = [("init_billiard.S.X", "run", ""), ("init_billiard.S.Y", "fail", stub_message("init_billiard")),
+                 ("cli.Cli.Run", "skipped", "skipped: " + stub_message("init_billiard"))]
+        with tempfile.TemporaryDirectory() as folder:
+            path = Path(folder) / "results.xml"
+            path.write_text(junit(cases))
+            output = io.StringIO()
+            with contextlib.redirect_stdout(output):
+                self.assertEqual(progress.main(["--counts", str(path)]), 0)
+        lines = output.getvalue().splitlines()
+        self.assertEqual(lines[1], "3 tests: 1 passed, 1 failed, 1 skipped (waiting for a task)")
+        self.assertEqual(lines[2], "Where the tasks stand:")
 
     def test_an_optional_stage_comes_after_the_six_tasks_and_says_so(self):
         stages = {"gravity": 7, "walls": 8}
