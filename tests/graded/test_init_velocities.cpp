@@ -1,5 +1,5 @@
 // Graded tests of task 2, init_velocities(n, coordinates, rng): random velocities with random
-// directions, no preferred direction, not all zero. The coordinates come from the test
+// directions, no preferred direction (every angle as likely), not all zero. The coordinates come from the test
 // fixtures, never from the student's init_billiard.
 #include "support/fixtures.hpp"
 #include "support/graded.hpp"
@@ -162,6 +162,12 @@ GRADED_TEST(InitVelocities, DifferentCirclesGetDifferentVelocities, 2, after_due
 constexpr int kStatisticsCircles = 10;
 constexpr int kStatisticsSeeds = 4000;
 
+// x rounded to `digits` decimals, for messages.
+double round_to(double x, int digits) {
+  const double scale = std::pow(10.0, digits);
+  return std::round(x * scale) / scale;
+}
+
 std::vector<Velocities> many_draws() {
   std::vector<Velocities> draws;
   draws.reserve(kStatisticsSeeds);
@@ -236,6 +242,62 @@ GRADED_TEST(InitVelocities, DirectionsFallInTheFourQuadrantsEquallyOften, 2, aft
         "the direction must be uniformly random over the full circle: e.g. an angle uniform in [0, 2 pi) (not "
         "[0, pi) or [0, 90)), or both components symmetric around 0");
   }
+}
+
+GRADED_TEST(InitVelocities, DirectionsAreAsCommonNearTheDiagonalsAsNearTheAxes, 2, after_due_date) {
+  // No preferred direction means every angle is as likely: each of 8 sectors of 45 degrees,
+  // centred on the axes (0, 90, 180, 270 degrees) and on the diagonals (45, 135, ...), holds
+  // 1/8 of the directions. Per seed, the fraction of the 10 circles in a sector has standard
+  // deviation about sqrt(1/8 * 7/8 / 10) = 0.10, so over S = 4000 seeds the bound 5 standard
+  // errors is about 0.008. Components uniform in a square put 0.146 near each diagonal and
+  // 0.104 near each axis (the square's corners reach sqrt(2) times further than its sides).
+  const auto draws = many_draws();
+  if (draws.empty()) return;
+  const double S = kStatisticsSeeds;
+  constexpr int kSectors = 8;
+  const double sector_angle = 2 * std::acos(-1.0) / kSectors;
+  std::array<double, kSectors> sum{}, sum2{};
+  for (const Velocities& v : draws) {
+    std::array<double, kSectors> fraction{};
+    for (Eigen::Index i = 0; i < v.rows(); ++i) {
+      const double angle = std::atan2(v(i, 1), v(i, 0)) + sector_angle / 2;  // sector 0 is centred on +x
+      const int sector = static_cast<int>(std::floor(angle / sector_angle) + kSectors) % kSectors;
+      fraction[static_cast<std::size_t>(sector)] += 1.0 / kStatisticsCircles;
+    }
+    for (std::size_t k = 0; k < kSectors; ++k) {
+      sum[k] += fraction[k];
+      sum2[k] += fraction[k] * fraction[k];
+    }
+  }
+  // Each sector's fraction, and the sector furthest from 1/8 in standard errors.
+  std::array<double, kSectors> mean{};
+  std::size_t worst = 0;
+  double worst_bound = 0, worst_excess = 0, axes = 0, diagonals = 0;
+  for (std::size_t k = 0; k < kSectors; ++k) {
+    mean[k] = sum[k] / S;
+    const double sd = std::sqrt(std::max(0.0, sum2[k] / S - mean[k] * mean[k]));
+    const double bound = 5 * sd / std::sqrt(S) + 1e-9;
+    const double excess = std::abs(mean[k] - 1.0 / kSectors) / bound;
+    if (excess > worst_excess) worst = k, worst_bound = bound, worst_excess = excess;
+    (k % 2 == 0 ? axes : diagonals) += mean[k] / (kSectors / 2);
+  }
+  if (worst_excess <= 1) return;
+  std::string fractions;
+  for (std::size_t k = 0; k < kSectors; ++k) fractions += text(k ? ", " : "", k * 45, ": ", round_to(mean[k], 3));
+  // The square's mark: more directions near all four diagonals than near the axes.
+  const bool square = diagonals - axes > 2 * worst_bound;
+  ADD_FAILURE() << explain(
+      text("every direction to be as likely: each 45-degree sector around an axis or a diagonal holds 1/8 = 0.125 of ",
+           "the velocities, over ", kStatisticsSeeds, " seeds (within ", round_to(worst_bound, 4), ")"),
+      text("the fractions around 0, 45, 90, ... 315 degrees were ", fractions,
+           square ? text(" (near the diagonals ", round_to(diagonals, 3), " each, near the axes ", round_to(axes, 3), ")")
+                  : text(" (", worst * 45, " degrees is the furthest off)")),
+      square ? "drawing vx and vy each uniformly in [-1, 1] fills a square, and a square favours the diagonals: its "
+               "corners reach sqrt(2) times further than its sides, so directions near a diagonal come up to twice as "
+               "often. Draw each component from std::normal_distribution<double>(0, 1) (its 2-D density depends only "
+               "on the speed), or draw an angle uniform in [0, 2 pi) and a speed, and use cos and sin"
+             : "the direction must be uniformly random over the full circle: draw an angle uniform in [0, 2 pi) "
+               "(not a few fixed angles), or each component from std::normal_distribution<double>(0, 1)");
 }
 
 // --- Invalid arguments -------------------------------------------------------------------------

@@ -34,9 +34,9 @@ struct Collision {
 // table_radius with n > 0, n < 0, or n circles that cannot be placed (the message says why).
 Coordinates init_billiard(double table_radius, double circle_radius, int n, Rng& rng);
 
-// Task 2. Random velocities for the n circles at `coordinates` (n rows): random directions,
-// no preferred direction, not all zero. Throws std::invalid_argument if n < 0 or
-// coordinates.rows() != n.
+// Task 2. Random velocities for the n circles at `coordinates` (n rows): random directions
+// with no preferred direction (every angle as likely), not all zero. Throws
+// std::invalid_argument if n < 0 or coordinates.rows() != n.
 Velocities init_velocities(int n, const Coordinates& coordinates, Rng& rng);
 
 // Task 3. Writes `svg_file`: an SVG picture with the table wall as one <circle> centred at the
