@@ -14,6 +14,12 @@
 //      t = c / (-b + sqrt(d)). (The other root is when they would separate again.)
 //      Two circles that have just collided have c ~ 0 but b > 0: correctly "no collision".
 //      Do not add small epsilons to times: use b < 0 to reject pairs moving apart.
+//      Times are never negative: a negative time is a contact in the past. Rounding is the one
+//      exception: after a collision the circles (or the circle and the wall) touch, so c (or C)
+//      is 0 give or take 1e-16, and a root can come out a hair below 0 (like -1e-17). That
+//      event is happening now: clamp the root to 0 with std::max(t, 0.0). A circle that
+//      rounding left a hair outside the wall (C > 0) and moving outward (B > 0) hits it now,
+//      at time 0; one sliding along it (B = 0) never does.
 //   3. Take the smallest time over all of these. If there is none (n = 0, or all circles at
 //      rest), throw std::invalid_argument.
 //   4. Move EVERY circle for that time: r += v t.

@@ -47,7 +47,15 @@ struct Table {
 // checks report what followed from them, so that the first message names the mistake.
 Collision step(Table& t) {
   const Collision got = billiard::propagate(t.R, t.a, t.n(), t.c, t.v);
-  if (got.time < 0) {
+  // The hint follows the event returned: the wall's root and a pair's root go wrong differently.
+  if (got.time < 0 && got.other == kWall) {
+    ADD_FAILURE() << explain("the time until the next collision, which is never negative", text("returned ", describe_collision(got)),
+                             "a negative time is a contact in the past: the wall's equation |r + v t| = R - a has "
+                             "one root in the past and one in the future (C = r.r - (R - a)^2 <= 0 inside the "
+                             "table); take the future one, t = (-B + sqrt(B^2 - A C)) / A, written "
+                             "-C / (B + sqrt(B^2 - A C)) when B > 0, and clamp it to 0 when rounding leaves it a "
+                             "hair below. The other root (-B - sqrt(B^2 - A C)) / A is negative.");
+  } else if (got.time < 0) {
     ADD_FAILURE() << explain("the time until the next collision, which is never negative", text("returned ", describe_collision(got)),
                              "a negative time is a contact in the past: pairs moving apart (b = dr.dv >= 0) never "
                              "collide, and for approaching pairs take the first-contact root t = c / (-b + sqrt(d)), "
