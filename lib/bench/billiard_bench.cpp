@@ -65,7 +65,7 @@ void granular_settling(const std::string& container, long n, double restitution,
   billiard::Simulation sim;
   if (container == "box") {
     // About 2.9 times as high as wide, and a whole number of diameters wide: a bottom row can fill
-    // the floor exactly, the hardest case (without sleeping it rattles ever faster, see the README).
+    // the floor exactly, the hardest case (without sleeping it rattles ever faster).
     const double width = 2 * std::floor(std::sqrt(area / 2.9) / 2);
     sim.add_box(Vec2(0, 0), Vec2(width, area / width));
   } else {

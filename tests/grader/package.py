@@ -67,7 +67,11 @@ STUDENT_EXCLUDED = [
     "tests/grader/grade_bench.py",    # the grader's benchmark (grades the reference solutions)
     ".ci/",                           # the instructors' CI (it expects the reference solutions)
     ".github/workflows/ci.yml",       # ... and the same CI on GitHub
+    "lib/README.md",                  # the library's guide (students read tasks/README.md)
+    "tasks/README.md",                # the students' guide: it becomes the release's README.md
 ]
+# The release's README is the students' guide.
+STUDENTS_GUIDE = "tasks/README.md"
 # README blocks only for instructors, removed from the student release (in every .md file).
 INSTRUCTORS_BLOCK = re.compile(r"<!-- instructors -->.*?<!-- /instructors -->\n?", re.DOTALL)
 
@@ -798,7 +802,9 @@ def command_student_release(arguments):
     for path in files:
         target = out / path
         target.parent.mkdir(parents=True, exist_ok=True)
-        if path.endswith(".md"):
+        if path == "README.md":
+            target.write_text(students_text((REPO / STUDENTS_GUIDE).read_text()))
+        elif path.endswith(".md"):
             target.write_text(students_text((REPO / path).read_text()))
         else:
             shutil.copyfile(REPO / path, target)

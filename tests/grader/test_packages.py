@@ -23,6 +23,7 @@ import tarfile
 import tempfile
 import time
 import unittest
+import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
 from unittest import mock
@@ -115,13 +116,16 @@ class StudentRelease(unittest.TestCase):
                      "tests/grader/package.py", "tests/grader/test_packages.py", "tests/grader/test_grader.py", ".ci"]:
             self.assertFalse((folder / gone).exists(), f"{gone} must not be in the student release")
         for kept in ["build.sh", "tasks/propagate.cpp", "tests/grader/grade.py", "tests/graded/test_movie.cpp",
-                     package.WORKFLOW]:
+                     package.WORKFLOW, ".devcontainer/devcontainer.json"]:
             self.assertTrue((folder / kept).is_file(), f"{kept} must be in the student release")
         self.assertTrue(os.access(folder / "build.sh", os.X_OK))
         for path in ["tests/graded/hidden/test_secret.cpp", "tests/mutants/propagate/off_by_one.cpp",
                      "solutions/movie.cpp", "tests/grader/hostile/propagate.cpp"]:
             self.assertTrue(package.excluded(path, package.ALWAYS_EXCLUDED + package.STUDENT_EXCLUDED), path)
         readme = (folder / "README.md").read_text()
+        self.assertEqual(readme, package.students_text((REPO / package.STUDENTS_GUIDE).read_text()))
+        for gone in ["tasks/README.md", "lib/README.md"]:
+            self.assertFalse((folder / gone).exists(), f"{gone} must not be in the student release")
         for word in ["solutions", "instructors", "mutants", "package.py", "hostile"]:
             self.assertNotIn(word, readme, "the student README must not keep the instructors' parts")
         for heading in ["## Quick start", "## The six tasks", "## Your grade", "## The `billiard` command"]:
@@ -133,6 +137,29 @@ class StudentRelease(unittest.TestCase):
         self.assertEqual((status, len(log.splitlines())), (0, 1), log)
         status, dirty = run(["git", "-C", str(folder), "status", "--porcelain"])
         self.assertEqual((status, dirty), (0, ""))
+
+        # The student's first test run, the README's command on the stubs: it builds and runs
+        # their tasks' suites and the commands' tests only, prints a short output, fails graded
+        # tests only, and ends with the block that points to task 1. Its time is printed for
+        # the README's figure (here ccache may have compiled some files before), not checked.
+        started = time.monotonic()
+        status, output = run(["./build.sh", "test"], cwd=folder)
+        seconds = time.monotonic() - started
+        lines = output.rstrip("\n").splitlines()
+        print(f"student release: first ./build.sh test: {seconds:.0f} s, {len(lines)} lines", flush=True)
+        self.assertNotEqual(status, 0, "the stubs cannot pass")
+        self.assertLessEqual(len(lines), 150, output)
+        self.assertEqual(lines[-2:], ["Next: write task 1 (init_billiard) in tasks/init_billiard.cpp",
+                                      "  then run: ./build.sh test -L init_billiard"])
+        self.assertNotIn("Traceback", output, "a task that is not written yet gives one line, not a traceback")
+        results = ET.parse(folder / "build" / "tasks" / "Testing" / "results.xml").getroot()
+        ran = [(case.get("name"), case.get("status")) for case in results.iter("testcase")]
+        self.assertEqual(sorted({name.split(".")[0] for name, _ in ran}),
+                         sorted(set(TASKS) | {"cli", "particles_command"}), "the student's tests only")
+        failing = [name for name, status in ran if status not in ("run", "notrun")]
+        self.assertEqual([name for name in failing if name.split(".")[0] not in TASKS], [], "graded tests only fail")
+        self.assertFalse((folder / "build" / "tasks" / "python").exists() and
+                         any((folder / "build" / "tasks" / "python").rglob("*.so")), "no Python module built")
 
         # The command builds from the student's tasks/ and names the task to work on.
         status, output = run(["./build.sh", "run"], cwd=folder)
@@ -269,27 +296,28 @@ class StudentLoop(unittest.TestCase):
         # folder of its own, so that this build's registration stays as it is.
         env = environment(PYTHONUSERBASE=str(fresh(WORK / "student-loop-python")))
         try:
-            # The first ./build.sh test on the stubs ends with a short block that says where to start.
-            status, output = run(["./build.sh", "test"], cwd=folder, env=env)
-            self.assertNotEqual(status, 0, "the stubs cannot pass")
-            block = output[output.rindex("Where the tasks stand:"):].rstrip("\n").splitlines()
-            self.assertLessEqual(len(block), len(TASKS) + 4, "\n".join(block))
-            self.assertEqual(block[-2:], ["Next: write task 1 (init_billiard) in tasks/init_billiard.cpp",
-                                          "  then run: ./build.sh test -L init_billiard"])
-            self.assertNotIn("Traceback", output, "a task that is not written yet gives one line, not a traceback")
-
-            # Edit one task, test it: only that suite is rebuilt (no Python module, no link-time
+            # Edit one task, test it: only that suite is rebuilt (no other suite, no link-time
             # optimisation). The time is printed for the README's figure, not checked here.
+            suites = folder / "build" / "tasks" / "tests"
+            before = {name: (suites / name).stat().st_mtime_ns for name in ("test_kinetic_energy", "test_propagate")}
             (folder / "tasks" / "kinetic_energy.cpp").touch()
             started = time.monotonic()
             status, output = run(["./build.sh", "test", "-L", "kinetic_energy"], cwd=folder, env=env)
             seconds = time.monotonic() - started
             print(f"student loop: touch tasks/kinetic_energy.cpp, ./build.sh test -L kinetic_energy: {seconds:.1f} s",
                   flush=True)
-            self.assertIn("Linking CXX executable tests/test_kinetic_energy", output)
-            for unwanted in ["_billiard", "test_propagate", "lto-wrapper"]:
-                self.assertNotIn(unwanted, output)
+            self.assertNotEqual((suites / "test_kinetic_energy").stat().st_mtime_ns, before["test_kinetic_energy"])
+            self.assertEqual((suites / "test_propagate").stat().st_mtime_ns, before["test_propagate"])
+            self.assertNotIn("lto-wrapper", output)
             self.assertIn("6 kinetic_energy   not written yet", output)
+
+            # Task 1 written: its run passes, and the block names task 2 and its command.
+            shutil.copyfile(REPO / "solutions" / TASK_FILE["init_billiard"], folder / "tasks" / TASK_FILE["init_billiard"])
+            status, output = run(["./build.sh", "test", "-L", "init_billiard"], cwd=folder, env=env)
+            self.assertEqual(status, 0, output[-3000:])
+            self.assertEqual(output.rstrip("\n").splitlines()[-2:],
+                             ["Next: task 2 (init_velocities) in tasks/init_velocities.cpp",
+                              "  then run: ./build.sh test -L init_velocities"])
 
             # Every task written (the reference code): the tests that use the tasks pass, and the
             # block says so. (The first run above already ran the tests that do not use them.)
@@ -358,6 +386,54 @@ class Bounds(unittest.TestCase):
         self.assertLess(package.AUTOLAB_PREBUILT_TOTAL + package.AUTOLAB_PREBUILT_ALLOWANCE,
                         package.AUTOLAB_PREBUILT_CUTOFF)
         self.assertLess(package.AUTOLAB_PREBUILT_CUTOFF, package.AUTOLAB_DEFAULT_TIMEOUT)
+
+
+class Guides(unittest.TestCase):
+    def test_counts_in_the_readme_follow_the_repository(self):
+        """Figures the README gives that follow from the repository: the mutants per kind of task."""
+        readme = " ".join((REPO / "README.md").read_text().split())
+        mutants = sorted((REPO / "tests" / "mutants").glob("*/*.mutant"))
+        kinds = {"six": 0, "stages": 0, "c": 0}
+        for mutant in mutants:
+            task = mutant.parent.name
+            kinds["c" if task in package.grade.PROGRAM_TASKS else "six" if
+                  package.grade.TASK_NUMBER[task] <= 6 else "stages"] += 1
+        self.assertIn(f"{len(mutants)} buggy solutions it must catch ({kinds['six']} of the six tasks, "
+                      f"{kinds['stages']} of the stages, {kinds['c']} of the C track)", readme)
+
+    def test_students_guide_is_for_students_only(self):
+        """The release's README (tasks/README.md without its instructors' parts) speaks to students:
+        at most 250 lines, and none of the library's API, the stepper or the clusters."""
+        guide = package.students_text((REPO / package.STUDENTS_GUIDE).read_text())
+        self.assertLessEqual(len(guide.splitlines()), 250)
+        for word in ["billiard.sweep", "Simulation", "stepper", "Dask", "cluster", "solutions/", "mutants",
+                     "original Python script", "lib/README.md"]:
+            self.assertNotIn(word, guide, f"the students' guide names {word}")
+        for command in ["./build.sh run", "./build.sh test", "./build.sh test -L engine", ".devcontainer/"]:
+            self.assertIn(command, guide.replace("`", ""), f"the students' guide does not name {command}")
+
+
+class DevContainer(unittest.TestCase):
+    # The properties of devcontainer.json in the Dev Container specification's reference
+    # (containers.dev, "Dev Container metadata reference"): general, image and lifecycle ones.
+    SPEC_PROPERTIES = {
+        "name", "forwardPorts", "portsAttributes", "otherPortsAttributes", "containerEnv", "remoteEnv",
+        "remoteUser", "containerUser", "updateRemoteUserUID", "userEnvProbe", "overrideCommand",
+        "shutdownAction", "init", "privileged", "capAdd", "securityOpt", "mounts", "features",
+        "overrideFeatureInstallOrder", "customizations", "image", "build", "appPort", "workspaceMount",
+        "workspaceFolder", "runArgs", "initializeCommand", "onCreateCommand", "updateContentCommand",
+        "postCreateCommand", "postStartCommand", "postAttachCommand", "waitFor", "hostRequirements"}
+
+    def test_a_debian_container_whose_setup_is_build_sh(self):
+        """The dev container is Debian (bookworm), holds only the specification's properties, sets
+        up with the README's own set-up, and ships to students."""
+        config = json.loads((REPO / ".devcontainer" / "devcontainer.json").read_text())
+        self.assertEqual(set(config) - self.SPEC_PROPERTIES, set())
+        self.assertRegex(config["image"], r"(debian|bookworm)")
+        self.assertEqual(config["postCreateCommand"], "./build.sh setup")
+        self.assertIn("setup", subprocess.run(["./build.sh", "--help"], cwd=REPO, stdout=subprocess.PIPE,
+                                              text=True).stdout)
+        self.assertFalse(package.excluded(".devcontainer/devcontainer.json", package.STUDENT_EXCLUDED))
 
 
 class Classroom(unittest.TestCase):
