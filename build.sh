@@ -243,7 +243,9 @@ case "$command" in
       ctest --preset "$BILLIARD_PRESET" --output-junit "$results" "${student[@]}" "$@" "${include_excluded[@]}" || status=$?
       print_fuzz_counts
     fi
-    # Where the tasks stand and what to do next, in a few lines (tests/grader/progress.py).
+    # The whole command's wall time (set-up, build, tests), then where the tasks stand and what
+    # to do next, in a few lines (tests/grader/progress.py).
+    echo "build.sh: test took $SECONDS s (set-up, build and tests)"
     [ -f "$results" ] && /usr/bin/python3 tests/grader/progress.py "${progress_options[@]}" "$results"
     exit "$status"
     ;;
