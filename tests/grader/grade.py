@@ -902,7 +902,9 @@ def catalog(build, task):
     return [json.loads(line) for line in done.stdout.splitlines() if line.strip()]
 
 
-def print_table(results, verbose):
+def print_table(results, verbose, own_tasks=True):
+    """The table of points per task, then what to do next: for a student grading their own tasks/,
+    the next step; for whoever grades another folder (own_tasks false), a summary of it."""
     width = max(len(task) for task in TASKS) + 2
     print(f"\n{'task':<{width + 4}}points")
     for result in results:
@@ -914,7 +916,8 @@ def print_table(results, verbose):
         failed = [test for test in result.tests if not test.passed and not test.not_run]
         not_run = [test for test in result.tests if test.not_run]
         if task_progress(result).missing == result.task:
-            print(f"      not implemented yet: write it in tasks/{TASK_FILE[result.task]} (every test fails until then)")
+            print(f"      not implemented yet: write it in tasks/{TASK_FILE[result.task]} (every test fails until then)"
+                  if own_tasks else "      not implemented yet: the file is the untouched stub")
             continue
         for test in failed:
             name = "a hidden test" if test.visibility == "hidden" else test.name
@@ -932,7 +935,32 @@ def print_table(results, verbose):
     if extra:
         print(f"    {'optional':<{width}}{sum(r.score for r in extra):>3} / {sum(r.maximum for r in extra)}"
               f"  (extra credit: {', '.join(r.task for r in extra)}; not in the total)")
-    print("\n" + "\n".join(next_step([task_progress(result) for result in results])))
+    if own_tasks:
+        print("\n" + "\n".join(next_step([task_progress(result) for result in results])))
+    else:
+        print("\n" + "\n".join(grader_summary(results)))
+
+
+def grader_summary(results):
+    """For whoever grades a submission: which tasks have full points, which lose points and where
+    first (the first failing visible test), which are not written, which do not build."""
+    full = [r.task for r in results if r.score == r.maximum and r.maximum > 0]
+    lines = [f"Summary: full points in {len(full)} of {len(results)} tasks"
+             + (f" ({', '.join(full)})" if full else "")]
+    for result in results:
+        if result.score == result.maximum and result.maximum > 0:
+            continue
+        if result.problem:
+            why = "does not build (the compiler's message is above)"
+        elif task_progress(result).missing == result.task:
+            why = "not written (the untouched stub)"
+        else:
+            failed = [t for t in result.tests if not t.passed]
+            visible = [t for t in failed if t.visibility != "hidden"]
+            first = f", first {visible[0].name}" if visible else ""
+            why = f"{result.score} / {result.maximum}: {plural(len(failed), 'test')} fail{'s' if len(failed) == 1 else ''}{first}"
+        lines.append(f"  {TASK_NUMBER[result.task]:>2} {result.task}: {why}")
+    return lines
 
 
 def task_progress(result):
@@ -1064,6 +1092,10 @@ def parse_arguments(argv):
                              "submission cannot include the reference code (with #include or the assembler's "
                              ".incbin)")
     parser.add_argument("--brief", action="store_true", help="list failing tests without their messages")
+    parser.add_argument("--audience", choices=["student", "grader"],
+                        help="who reads the report's end: the student who wrote the files (what to do next, "
+                             "as ./build.sh test says it) or whoever grades them (a summary per task); default: "
+                             "student for the repository's own tasks/, grader for any other folder")
     parser.add_argument("--require-full", action="store_true",
                         help="exit with status 1 unless every graded task has full points (for CI graders such "
                              "as GitHub Classroom's command grader)")
@@ -1180,7 +1212,9 @@ def grade(arguments):
     elapsed = time.monotonic() - started
     write_atomically(arguments.results / "results.json", json.dumps(gradescope_results(results, elapsed), indent=2) + "\n")
     write_atomically(arguments.results / "junit.xml", junit_xml(results))
-    print_table(results, verbose=not arguments.brief)
+    audience = arguments.audience or ("student" if arguments.submission.resolve() == (REPO / "tasks").resolve()
+                                      else "grader")
+    print_table(results, verbose=not arguments.brief, own_tasks=audience == "student")
     print(f"\nresults: {arguments.results / 'results.json'} (Gradescope) and {arguments.results / 'junit.xml'} (JUnit)")
     print(f"grade: {elapsed:.0f} s in all, of which {own_build:.0f} s for the grader's own build; "
           + limits_summary(limits, tasks, factor, slower))

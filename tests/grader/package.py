@@ -68,7 +68,10 @@ STUDENT_EXCLUDED = [
     ".ci/",                           # the instructors' CI (it expects the reference solutions)
     ".github/workflows/ci.yml",       # ... and the same CI on GitHub
     "lib/README.md",                  # the library's guide (students read tasks/README.md)
+    "tests/grader/README.md",         # the instructors' guide
+    ".github/CONTRIBUTING.md",        # the contributors' guide
     "tasks/README.md",                # the students' guide: it becomes the release's README.md
+    "lib/app/movie-10-1-10.svg",      # the front page's picture (the reference solutions' movie)
 ]
 # The release's README is the students' guide.
 STUDENTS_GUIDE = "tasks/README.md"
@@ -88,11 +91,11 @@ AUTOLAB_PREBUILT_CUTOFF = 170
 # The grader's own work per submission besides the tasks, allowed for in the stated bounds: on
 # Gradescope, setup.sh has built the grader and measured the reference solutions, so a submission
 # only checks the build (seconds); an Autolab job builds the grader from scratch and measures the
-# reference solutions on its machine (README.md gives the times measured on one core).
+# reference solutions on its machine (tests/grader/README.md gives the times measured on one core).
 GRADESCOPE_BUILD_ALLOWANCE = 60
 AUTOLAB_BUILD_ALLOWANCE = 300
 AUTOLAB_PREBUILT_ALLOWANCE = 20  # a job with the image's grader: unpacking the handin, checking the build
-# grade.py's time limits on the platforms (README.md, "Time limits"): each test and each task
+# grade.py's time limits on the platforms (tests/grader/README.md, "Grading"): each test and each task
 # may take ten times what the reference solutions need on the grading machine (time_limits.py),
 # and the tasks' budgets together at most PLATFORM_TOTAL seconds (scaled down on a machine so slow
 # that they would not fit), so a submission, however it misbehaves, is graded within the
@@ -406,7 +409,7 @@ def run_grader(submission, results_folder, cutoff, grade_options=(), limits=tupl
     whom the reference solutions and the grader's build are unreadable while grading
     (--protect-reference); Autolab runs jobs unprivileged, so there a handin could include them."""
     command = ["/usr/bin/python3", str(REPO / GRADE), "--submission", str(submission), "--results",
-               str(results_folder), "--dependencies", "reference", *limits, *grade_options]
+               str(results_folder), "--dependencies", "reference", "--audience", "student", *limits, *grade_options]
     if os.geteuid() == 0:
         command.append("--protect-reference")
     sys.stdout.flush()

@@ -275,11 +275,15 @@ class GradesKnownSubmissions(unittest.TestCase):
         broken.write_text((REPO / "solutions" / "propagate.cpp").read_text().replace("return next;", "return nxt;"))
         submission = submission_from_solutions(propagate=broken)
         try:
-            scores, maxima, report, _, _ = grade(submission)
+            scores, maxima, report, _, output = grade(submission)
         finally:
             shutil.rmtree(submission)
             shutil.rmtree(broken.parent)
         self.assertEqual(scores["propagate"], 0)
+        # Another folder than tasks/: the report ends with a summary for whoever grades it.
+        self.assertNotIn("Next:", output)
+        self.assertIn(f"Summary: full points in {len(TASKS) - 1} of {len(TASKS)} tasks", output)
+        self.assertIn("propagate: does not build", output.splitlines()[-1])
         entry = next(test for test in report["tests"] if test["name"].startswith("propagate:"))
         self.assertIn("nxt", entry["output"])
         self.assertEqual(entry["max_score"], maxima["propagate"])

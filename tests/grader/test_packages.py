@@ -11,10 +11,12 @@ each task's maximum points), and the tests work in its package-tests/ subfolder.
 """
 
 import contextlib
+import glob
 import io
 import json
 import os
 import re
+import shlex
 import shutil
 import stat
 import subprocess
@@ -34,6 +36,7 @@ HERE = Path(__file__).resolve().parent
 REPO = HERE.parents[1]
 sys.path.insert(0, str(HERE))
 import package  # noqa: E402  (the script under test, for its lists of tasks and exclusions)
+import release_check  # noqa: E402  (how the release's README is read: its commands and paths)
 
 TASKS = package.TASKS
 TASK_FILE = package.grade.TASK_FILE  # <task>.cpp, or <task>.c for a C task
@@ -343,7 +346,7 @@ class ProjectCI(unittest.TestCase):
         steps = [step for job in workflow["jobs"].values() for step in job["steps"]]
         self.assertIn(".ci/run", [step.get("run") for step in steps])
         commands = [line for line in (REPO / ".ci/run").read_text().splitlines() if line and not line.startswith(("#", "set ", "cd "))]
-        self.assertEqual(commands, ["./build.sh test"])
+        self.assertEqual(commands, ["./build.sh test", "ctest --preset stress", "ctest --preset platforms"])
         self.assertIn("./build.sh test", (REPO / "README.md").read_text())
         for path in [".ci/run", ".github/workflows/ci.yml"]:
             self.assertTrue(package.excluded(path, package.STUDENT_EXCLUDED), f"{path} would ship to students")
@@ -351,10 +354,10 @@ class ProjectCI(unittest.TestCase):
 
 class Bounds(unittest.TestCase):
     def test_readme_states_the_limits_the_grader_and_packages_use(self):
-        """The README's time limits and bounds are the ones grade.py and package.py compute."""
+        """The instructors' guide's time limits and bounds are the ones grade.py and package.py compute."""
         limits = package.grade.time_limits
-        readme = " ".join((REPO / "README.md").read_text().split())
-        self.assertEqual(limits.MARGIN, 10, "the README says 'ten times'")
+        readme = " ".join((REPO / "tests" / "grader" / "README.md").read_text().split())
+        self.assertEqual(limits.MARGIN, 10, "the instructors' guide says 'ten times'")
         statements = [
             f"each test ten times the CPU time the reference takes for it (at least {limits.MIN_TEST_SECONDS:g} s)",
             f"(compiling its file, linking its suite, running its tests; at least {limits.MIN_TASK_SECONDS:g} s)",
@@ -374,10 +377,12 @@ class Bounds(unittest.TestCase):
             f"{package.AUTOLAB_PREBUILT_ALLOWANCE} s for the rest; the driver stops the grader after "
             f"{package.AUTOLAB_PREBUILT_CUTOFF} s), within Autolab's default autograding timeout of "
             f"{package.AUTOLAB_DEFAULT_TIMEOUT} s",
+            f"Every task's budget there is the {limits.MIN_TASK_SECONDS:g} s floor: "
+            f"{len(TASKS) * limits.MIN_TASK_SECONDS:g} s for the {len(TASKS)} tasks of `course.txt`",
         ]
-        self.assertEqual(limits.WALL_SLACK, 2, "the README says 'twice'")
+        self.assertEqual(limits.WALL_SLACK, 2, "the instructors' guide says 'twice'")
         missing = [statement for statement in statements if statement not in readme]
-        self.assertEqual(missing, [], "README.md does not say these (or says other numbers)")
+        self.assertEqual(missing, [], "tests/grader/README.md does not say these (or says other numbers)")
         # The bounds fit the platforms' limits, with the drivers' cut-offs in between.
         self.assertLess(package.PLATFORM_TOTAL + package.GRADESCOPE_BUILD_ALLOWANCE, package.GRADESCOPE_CUTOFF)
         self.assertLess(package.GRADESCOPE_CUTOFF, 600)  # Gradescope's default timeout: 10 minutes
@@ -389,9 +394,9 @@ class Bounds(unittest.TestCase):
 
 
 class Guides(unittest.TestCase):
-    def test_counts_in_the_readme_follow_the_repository(self):
-        """Figures the README gives that follow from the repository: the mutants per kind of task."""
-        readme = " ".join((REPO / "README.md").read_text().split())
+    def test_counts_in_the_guides_follow_the_repository(self):
+        """Figures the guides give that follow from the repository: the mutants per kind of task."""
+        readme = " ".join((REPO / ".github" / "CONTRIBUTING.md").read_text().split())
         mutants = sorted((REPO / "tests" / "mutants").glob("*/*.mutant"))
         kinds = {"six": 0, "stages": 0, "c": 0}
         for mutant in mutants:
@@ -400,6 +405,83 @@ class Guides(unittest.TestCase):
                   package.grade.TASK_NUMBER[task] <= 6 else "stages"] += 1
         self.assertIn(f"{len(mutants)} buggy solutions it must catch ({kinds['six']} of the six tasks, "
                       f"{kinds['stages']} of the stages, {kinds['c']} of the C track)", readme)
+
+    def test_front_page_picture_is_the_commands_movie(self):
+        """The README's picture is the movie `billiard 10 1 10` draws with the reference solutions
+        (numbers compared to 6 significant digits: another compiler may round the last ones)."""
+        output = fresh(WORK / "front-page-movie")
+        status, printed = run([str(TESTS.parent / "billiard"), "10", "1", "10", "--output", str(output)])
+        self.assertEqual(status, 0, printed)
+
+        def rounded(svg):
+            return re.sub(r"-?\d+\.\d+(?:e-?\d+)?", lambda number: f"{float(number.group()):.6g}", svg)
+        committed = REPO / "lib" / "app" / "movie-10-1-10.svg"
+        self.assertEqual(rounded(committed.read_text()), rounded((output / "movie.svg").read_text()),
+                         f"regenerate it: build/release/billiard 10 1 10 --output DIR, then copy DIR/movie.svg "
+                         f"to {committed.relative_to(REPO)}")
+        self.assertIn(committed.relative_to(REPO).as_posix(), (REPO / "README.md").read_text())
+
+    GUIDES = ["README.md", "tasks/README.md", "tests/grader/README.md", "lib/README.md", ".github/CONTRIBUTING.md"]
+
+    def test_every_path_and_command_in_the_guides_is_there(self):
+        """Every repository path the guides show exists, and every command they show names a
+        command, preset, label, option or script that exists (checked without running it: the
+        student release's check runs the students' commands)."""
+        build = TESTS.parent
+        presets = json.loads((REPO / "CMakePresets.json").read_text())
+        preset_names = {kind: {preset["name"] for preset in presets[kind]}
+                        for kind in ("configurePresets", "buildPresets", "testPresets")}
+        labels = set(run(["ctest", "--test-dir", str(build), "--print-labels"])[1].split())
+        build_help = run(["./build.sh", "--help"], cwd=REPO)[1]
+        helps = {"grade": run(["/usr/bin/python3", "tests/grader/grade.py", "--help"], cwd=REPO)[1],
+                 "bench": run([str(build / "lib" / "bench" / "billiard_bench"), "--help"])[1],
+                 "billiard": run([str(build / "billiard"), "--help"])[1]}
+        problems = []
+        for guide in self.GUIDES:
+            text = (REPO / guide).read_text()
+            paths = set(release_check.readme_paths(text)) | set(release_check.CITED_PATH.findall(text))
+            for path in sorted(paths):
+                path = path.rstrip("/")
+                if path.startswith(("build/", "~", "..", "$")) or any(mark in path for mark in ("://", "=", "@")):
+                    continue  # what a command writes, a user's folder, a URL, a setting or a GitHub action
+                if not glob.glob(str(REPO / re.sub(r"<[^>]*>", "*", path))):
+                    problems.append(f"{guide}: {path} does not exist")
+            for command in release_check.readme_commands(text):
+                words = [release_check.fill(word) for word in shlex.split(command, comments=True)]
+                problems += [f"{guide}: `{command}`: {problem}"
+                             for problem in self.command_problems(words, preset_names, labels, build_help, helps)]
+        self.assertEqual(problems, [], "\n".join(problems))
+
+    @staticmethod
+    def command_problems(words, presets, labels, build_help, helps):
+        """What is wrong with one command a guide shows ([] when nothing)."""
+        def options_missing(help_text, options):
+            return [f"no option {option}" for option in options
+                    if option.startswith("--") and option.split("=")[0] not in help_text]
+        head, rest = words[0], words[1:]
+        named_labels = [rest[k + 1] for k, word in enumerate(rest[:-1]) if word in ("-L", "-LE")]
+        unknown_labels = [f"no label {label}" for label in named_labels
+                          if label.isidentifier() and not label.isupper() and label not in labels]
+        if head == "./build.sh":
+            sub = rest[0] if rest else ""
+            if sub and not sub.startswith("-") and f"./build.sh {sub}" not in build_help:
+                return [f"./build.sh has no command {sub}"]
+            if sub in ("grade", "bench") and not release_check.is_usage(words):
+                return options_missing(helps[sub], rest[1:])
+            return unknown_labels
+        if head in ("ctest", "cmake"):
+            kind = "testPresets" if head == "ctest" else \
+                "buildPresets" if "--build" in rest else "configurePresets"
+            named = [rest[k + 1] for k, word in enumerate(rest[:-1]) if word == "--preset"]
+            return [f"no {kind} preset {name}" for name in named if name not in presets[kind]] + unknown_labels
+        if head == "/usr/bin/python3" and rest and not rest[0].startswith("-"):
+            if not (REPO / rest[0]).is_file():
+                return [f"no script {rest[0]}"]
+            status, output = run(["/usr/bin/python3", rest[0], "--help"], cwd=REPO)
+            return [] if status == 0 else [f"{rest[0]} --help fails: {output[-300:]}"]
+        if head == "billiard" and not release_check.is_usage(words):
+            return options_missing(helps["billiard"], rest)
+        return []
 
     def test_students_guide_is_for_students_only(self):
         """The release's README (tasks/README.md without its instructors' parts) speaks to students:
