@@ -1042,6 +1042,20 @@ def junit_xml(results):
     return ET.tostring(suites, encoding="unicode", xml_declaration=True) + "\n"
 
 
+def task_records(results):
+    """Every task's result in full, hidden tests' names and messages included (for the
+    instructor's class report, never for a student): a JSON-ready list, one entry per task."""
+    return [{"task": result.task, "maximum": result.maximum, "problem": result.problem,
+             "tests": [{key: value for key, value in vars(test).items() if key != "task"} for test in result.tests]}
+            for result in results]
+
+
+def results_from_records(records):
+    """The TaskResults that task_records wrote (without their clocks)."""
+    return [TaskResult(record["task"], [TestResult(record["task"], **test) for test in record["tests"]],
+                       record["maximum"], record["problem"]) for record in records]
+
+
 def write_atomically(path, text):
     path.parent.mkdir(parents=True, exist_ok=True)
     partial = path.with_name(path.name + ".partial")
@@ -1055,8 +1069,21 @@ def parse_arguments(argv):
     parser = argparse.ArgumentParser(prog="grade", description=__doc__.split("\n\n")[0])
     parser.add_argument("--submission", type=Path, default=REPO / "tasks",
                         help="folder with the task files <task>.cpp, or <task>.c for a C task (default: tasks/)")
-    parser.add_argument("--results", type=Path, default=REPO / "build" / "grade" / "results",
-                        help="folder for results.json and junit.xml (default: build/grade/results)")
+    parser.add_argument("--results", type=Path,
+                        help="folder for results.json and junit.xml (default: build/grade/results; with --class, "
+                             "the class's results: build/grade/class)")
+    parser.add_argument("--class", dest="class_folder", type=Path, metavar="DIR",
+                        help="grade a whole class: DIR (or a .zip or .tar of it) is a folder with an entry per "
+                             "student, a Gradescope export, an Autolab download or a folder of GitHub Classroom "
+                             "repositories; each student is graded as the platforms grade, on Dask workers, and "
+                             "only what changed since the last run (see tests/grader/grade_class.py)")
+    parser.add_argument("--workers", type=int,
+                        help="with --class, local worker processes (default: the cores this process may use)")
+    parser.add_argument("--client", metavar="ADDRESS",
+                        help="with --class, grade on the Dask cluster whose scheduler is at ADDRESS "
+                             "(tcp://host:8786); its workers need a copy of this repository")
+    parser.add_argument("--worker-repo", type=Path, metavar="PATH",
+                        help="with --client, where the workers' copy of this repository is (default: this one's path)")
     parser.add_argument("--build", type=Path, default=REPO / "build" / "grade" / "build",
                         help="build folder (default: build/grade/build)")
     parser.add_argument("--dependencies", choices=["reference", "submission"],
@@ -1099,10 +1126,23 @@ def parse_arguments(argv):
     parser.add_argument("--require-full", action="store_true",
                         help="exit with status 1 unless every graded task has full points (for CI graders such "
                              "as GitHub Classroom's command grader)")
+    parser.add_argument("--records", type=Path,
+                        help="also write every task's full results (hidden tests included) to this JSON file, "
+                             "for the class report; not for students")
     parser.add_argument("--cache", type=Path,
                         help="folder to remember results by test and executable checksum, so that unchanged "
                              "suites are not run again (for grading many variants; not for untrusted setups)")
     arguments = parser.parse_args(argv)
+    if arguments.class_folder is not None:
+        if not arguments.class_folder.exists():
+            fail(f"--class {arguments.class_folder} does not exist; give the folder (or archive) of the class")
+        if arguments.workers is None:
+            arguments.workers = len(os.sched_getaffinity(0))
+        if arguments.workers < 1:
+            fail("--workers must be at least 1")
+        return arguments
+    if arguments.results is None:
+        arguments.results = REPO / "build" / "grade" / "results"
     for folder in ["submission", "results", "build"]:  # the build's own records hold absolute paths
         setattr(arguments, folder, getattr(arguments, folder).absolute())
     if not arguments.submission.is_dir():
@@ -1212,6 +1252,8 @@ def grade(arguments):
     elapsed = time.monotonic() - started
     write_atomically(arguments.results / "results.json", json.dumps(gradescope_results(results, elapsed), indent=2) + "\n")
     write_atomically(arguments.results / "junit.xml", junit_xml(results))
+    if arguments.records:
+        write_atomically(arguments.records.absolute(), json.dumps(task_records(results)) + "\n")
     audience = arguments.audience or ("student" if arguments.submission.resolve() == (REPO / "tasks").resolve()
                                       else "grader")
     print_table(results, verbose=not arguments.brief, own_tasks=audience == "student")
@@ -1421,6 +1463,9 @@ def run_tests(results, build, sandbox, scratch, clocks, jobs, cache, quiet=False
 
 def main(argv=None):
     arguments = parse_arguments(sys.argv[1:] if argv is None else argv)
+    if arguments.class_folder is not None:
+        import grade_class
+        return grade_class.main(arguments)
     results = grade(arguments)
     if arguments.require_full and any(result.score < result.maximum for result in results):
         return 1

@@ -1,0 +1,592 @@
+#!/usr/bin/python3
+"""Grades a whole class: every student's task files, graded exactly as the grading platforms
+grade one submission, on Dask worker processes, resumable, with a report for the instructor.
+
+    ./build.sh grade --class DIR [--results DIR] [--workers N] [--client tcp://HOST:8786] [--task T]
+
+DIR (a folder, or a .zip or .tar of one) holds the class in one of these layouts, recognised in
+this order:
+
+  gradescope  Gradescope's "Export Submissions" download (the assignment's Review Grades page):
+              a `submission_metadata.yml` next to one folder per submission, `submission_<id>/`.
+              The YAML maps each folder's name to its submission, whose `:submitters` list holds
+              each student's `:name`, `:email` and `:sid` (Ruby-style keys, with the colon). A
+              submission is named after its submitters' names (else their e-mail, else the folder).
+  autolab     Autolab's download of all handins: files named `<email>_<version>_<handin file>`,
+              or a folder per e-mail address holding `<version>_<handin file>` (its handin
+              folder's layout). A student's highest version is graded.
+  classroom   GitHub Classroom's `gh classroom clone student-repos`: one git repository per
+              student, `<assignment>-<github user>/`, all with the assignment's prefix; the
+              student is the part after it.
+  folders     anything else: one entry per student, a folder or an archive, named after them.
+
+Each student's task files are found the way the platforms' packages find them (package.py's
+find_task_files: at any depth, inside archives, a folder named `tasks` first). Each student is
+graded by tests/grader/grade.py with the platforms' options (the reference code for the other
+tasks, time limits from the reference solutions, the tests as an unprivileged user when run as
+root), so a hostile or endless submission costs that student only. Each Dask worker grades in a
+build folder of its own, built once: by default the workers are local processes (--workers,
+default the cores this process may use); --client grades on a Dask cluster whose workers have a
+copy of this repository at the same path (or --worker-repo).
+
+Nothing is lost and nothing is done twice: a student's results are written as soon as they are
+graded, task by task, with a key made of the task file's content and the task's suite (its
+tests, the support code, the reference code of the other tasks, the grader). Running the same
+command again grades only the tasks whose key changed, so an interrupted run is resumed by
+running it again, and after a fix to one task's tests only that task is regraded.
+
+Written to --results (default build/grade/class/): students/<student>/ with the platforms'
+results.json and junit.xml (what the student may see: hidden tests without name or message) and
+the grader's log; gradebook.csv (one row per student: a column per task of course.txt in
+course order, `total` of the required tasks, `optional`); tests.csv (one row per graded test:
+how many students failed it, and the most common first failure message); report.html (one page
+for the instructor, with figures: the totals, each task's points, the tests the class fails
+most and their lead hints; hidden tests named).
+"""
+
+import collections
+import csv
+import fcntl
+import hashlib
+import html
+import io
+import json
+import os
+import re
+import shutil
+import socket
+import stat
+import subprocess
+import sys
+import tarfile
+import time
+import zipfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import grade
+import package
+from progress import NOT_WRITTEN, OPTIONAL, TASK_FILE, TASK_NUMBER, TASKS
+
+REPO = grade.REPO
+DEFAULT_RESULTS = REPO / "build" / "grade" / "class"
+# Seconds one student's grading may take before it counts as failed (and is tried again on the
+# next run): the platforms' bound, plus a worker's first build of the grader.
+STUDENT_CUTOFF = package.AUTOLAB_CUTOFF
+LAYOUTS = ("gradescope", "autolab", "classroom", "folders")
+AUTOLAB_FILE = re.compile(r"^(?P<email>[^_/]+@[^_/]+)_(?P<version>\d+)_(?P<name>.+)$")
+AUTOLAB_VERSIONED = re.compile(r"^(?P<version>\d+)_(?P<name>.+)$")
+
+
+@dataclass
+class Student:
+    name: str              # as the gradebook shows it
+    places: list           # the files and folders that hold their task files
+    folder: str = ""       # their folder under students/: the name made safe, unique
+    files: dict = field(default_factory=dict)   # task -> bytes of the file graded (the stub if none)
+    notes: list = field(default_factory=list)   # what find_task_files says about their files
+
+
+# --- Reading the class --------------------------------------------------------------------------
+
+def unpack(archive, destination):
+    """Unpacks a .zip or .tar of a class into destination: regular files only, paths inside it,
+    at most package.ARCHIVE_MEMBER_CAP entries and package.ARCHIVE_SCAN_CAP bytes."""
+    total = 0
+
+    def target(name):
+        parts = [part for part in re.split(r"[/\\]", name) if part not in ("", ".", "..")]
+        return destination.joinpath(*parts) if parts else None
+
+    def write(name, read, size):
+        nonlocal total
+        total += size
+        path = target(name)
+        if path is None or total > package.ARCHIVE_SCAN_CAP:
+            return
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_bytes(read())
+
+    if zipfile.is_zipfile(archive):
+        with zipfile.ZipFile(archive) as members:
+            for info in members.infolist()[:package.ARCHIVE_MEMBER_CAP]:
+                if not info.is_dir() and not stat.S_ISLNK(info.external_attr >> 16):
+                    write(info.filename, lambda info=info: members.read(info), info.file_size)
+    elif tarfile.is_tarfile(archive):
+        with tarfile.open(archive) as members:
+            for count, member in enumerate(members):
+                if count >= package.ARCHIVE_MEMBER_CAP:
+                    break
+                if member.isfile():
+                    write(member.name, lambda member=member: members.extractfile(member).read(), member.size)
+    else:
+        raise ValueError(f"{archive} is neither a folder nor a .zip or .tar archive")
+    return destination
+
+
+def class_folder(path, work):
+    """The folder that holds the class: path itself, its unpacked copy if it is an archive, and
+    the one folder inside if that is all there is (an export's own top folder)."""
+    if path.is_file():
+        path = unpack(path, work / "unpacked")
+    entries = [entry for entry in path.iterdir() if not entry.name.startswith((".", "__MACOSX"))]
+    if len(entries) == 1 and entries[0].is_dir() and not (entries[0] / ".git").exists():
+        return class_folder(entries[0], work)
+    return path
+
+
+def read_class(path, work):
+    """(layout, [Student]) of the class in path (a folder or an archive)."""
+    folder = class_folder(path, work)
+    entries = sorted(entry for entry in folder.iterdir() if not entry.name.startswith((".", "__MACOSX")))
+    if (folder / "submission_metadata.yml").is_file():
+        return "gradescope", gradescope_students(folder)
+    if entries and all(AUTOLAB_FILE.match(entry.name) or (entry.is_dir() and "@" in entry.name)
+                       for entry in entries):
+        return "autolab", autolab_students(entries)
+    repositories = [entry for entry in entries if entry.is_dir() and (entry / ".git").exists()]
+    prefix = os.path.commonprefix([entry.name for entry in repositories])
+    prefix = prefix[:prefix.rfind("-") + 1]
+    if len(repositories) >= 2 and repositories == entries and prefix:
+        return "classroom", [Student(entry.name[len(prefix):], [entry]) for entry in entries]
+    return "folders", [Student(re.sub(r"(\.tar\.gz|\.tgz|\.tar|\.zip)$", "", entry.name), [entry])
+                       for entry in entries]
+
+
+def gradescope_students(folder):
+    import yaml  # Debian's python3-yaml, as build.sh installs it
+    metadata = yaml.safe_load((folder / "submission_metadata.yml").read_text()) or {}
+    students = []
+    for name in sorted(metadata):
+        submission = folder / str(name)
+        if not submission.is_dir():
+            continue
+        entry = metadata[name] if isinstance(metadata[name], dict) else {}
+        submitters = entry.get(":submitters") or entry.get("submitters") or []
+        named = [str(person.get(":name") or person.get("name") or person.get(":email") or person.get(":sid") or "")
+                 for person in submitters if isinstance(person, dict)]
+        students.append(Student(", ".join(n for n in named if n) or str(name), [submission]))
+    return students
+
+
+def autolab_students(entries):
+    latest = {}  # email -> (version, [places])
+    for entry in entries:
+        match = AUTOLAB_FILE.match(entry.name)
+        if match:
+            email, version, places = match["email"], int(match["version"]), [entry]
+        else:  # a handin folder: <email>/<version>_<handin file>
+            versions = [(int(m["version"]), item) for item in entry.iterdir()
+                        if (m := AUTOLAB_VERSIONED.match(item.name)) and "autograde" not in m["name"]]
+            if not versions:
+                continue
+            version = max(v for v, _ in versions)
+            email, places = entry.name, [item for v, item in versions if v == version]
+        if email not in latest or version > latest[email][0]:
+            latest[email] = (version, places)
+    return [Student(email, places) for email, (_, places) in sorted(latest.items())]
+
+
+def safe_folders(students):
+    """Gives each student a folder name of safe characters, unique in the class."""
+    taken = set()
+    for student in students:
+        base = re.sub(r"[^A-Za-z0-9._@+-]+", "_", student.name).strip("._") or "student"
+        name, count = base[:80], 1
+        while name.lower() in taken:
+            count += 1
+            name = f"{base[:76]}-{count}"
+        taken.add(name.lower())
+        student.folder = name
+
+
+def find_files(student, work):
+    """The student's task files as the platforms find them (the stub where one is missing)."""
+    staged = work / "staged" / student.folder
+    shutil.rmtree(staged, ignore_errors=True)
+    with contextlib_quiet():
+        _, student.notes = package.find_task_files(student.places, staged)
+    student.files = {task: (staged / TASK_FILE[task]).read_bytes() for task in TASKS}
+    shutil.rmtree(staged, ignore_errors=True)
+
+
+class contextlib_quiet:
+    """Keeps what a called function prints out of the class's progress lines."""
+
+    def __enter__(self):
+        self.saved, sys.stdout = sys.stdout, io.StringIO()
+
+    def __exit__(self, *_):
+        sys.stdout = self.saved
+
+
+# --- What changed: a key per student and task -------------------------------------------------------
+
+def suite_fingerprints():
+    """{task: hash of everything its grading depends on but the student's file}: the suite's own
+    tests and support code, the course's library, the reference code of the other tasks, the
+    grader and the build files. A change to one task's tests changes that task's alone."""
+    shared = hashlib.sha256()
+    common = ["CMakeLists.txt", "CMakePresets.json", "tests/CMakeLists.txt", "tests/grader/CMakeLists.txt",
+              "tests/grader/course.txt", "tests/grader/grade.py", "tests/grader/time_limits.py",
+              "tests/grader/progress.py", "tests/grader/not_implemented.cpp", "tests/grader/not_implemented.c"]
+    paths = [REPO / path for path in common]
+    for folder in ["lib/include", "lib/src", "tests/support", "tasks"]:
+        paths += sorted(path for path in (REPO / folder).rglob("*") if path.is_file())
+    for path in paths:
+        if path.is_file() and not path.name.endswith(".md"):
+            shared.update(str(path.relative_to(REPO)).encode() + b"\0" + path.read_bytes())
+    prints = {}
+    for task in TASKS:
+        digest = shared.copy()
+        own = [REPO / "tests" / "graded" / f"test_{task}.cpp", REPO / "tests" / "graded" / "hidden" / f"test_{task}.cpp",
+               REPO / "tests" / "graded" / f"{task}_support.hpp"]
+        others = sorted(path for path in (REPO / "solutions").rglob("*")
+                        if path.is_file() and path.name != TASK_FILE[task])
+        for path in own + others + sorted((REPO / "tests" / "graded").glob("*_support.hpp")):
+            if path.is_file():
+                digest.update(str(path.relative_to(REPO)).encode() + b"\0" + path.read_bytes())
+        prints[task] = digest.hexdigest()
+    return prints
+
+
+def task_key(student, task, fingerprints):
+    return hashlib.sha256(fingerprints[task].encode() + b"\0" + student.files[task]).hexdigest()
+
+
+# --- Grading one student, on a worker --------------------------------------------------------------
+
+def grade_on_worker(repo, files, options, cutoff):
+    """Runs on a Dask worker: grades one student's task files ({file name: bytes}) with
+    grade.py and the given options, in this worker's build folder, and returns (records,
+    seconds, log). It uses the standard library only, so that a worker needs nothing of this
+    file but the repository."""
+    repo = Path(repo)
+    try:
+        from distributed import get_worker
+        worker = str(get_worker().name)
+    except (ImportError, ValueError):
+        worker = str(os.getpid())
+    here = repo / "build" / "grade" / "workers" / re.sub(r"[^A-Za-z0-9._-]", "_", f"{socket.gethostname()}-{worker}")
+    here.mkdir(parents=True, exist_ok=True)
+    with open(here / "lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # one grading at a time in a build folder
+        submission = here / "submission"
+        shutil.rmtree(submission, ignore_errors=True)
+        submission.mkdir()
+        for name, text in files.items():
+            (submission / name).write_bytes(text)
+        records = here / "records.json"
+        records.unlink(missing_ok=True)
+        command = ["/usr/bin/python3", str(repo / "tests" / "grader" / "grade.py"), "--submission", str(submission),
+                   "--results", str(here / "results"), "--build", str(here / "build"), "--records", str(records),
+                   *options]
+        if os.geteuid() == 0:
+            command.append("--protect-reference")
+        started = time.monotonic()
+        try:
+            done = subprocess.run(command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                  text=True, errors="replace", timeout=cutoff)
+            log, status = done.stdout, done.returncode
+        except subprocess.TimeoutExpired as expired:
+            log, status = str(expired.stdout or ""), None
+        seconds = time.monotonic() - started
+        if status != 0 or not records.is_file():
+            why = "did not finish" if status is None else f"exited with status {status}"
+            raise RuntimeError(f"grade.py {why} on {socket.gethostname()}:\n{log[-3000:]}")
+        return json.loads(records.read_text()), seconds, log
+
+
+def grading_options(tasks):
+    """grade.py's options for one student of the class: the platforms' grading, for the given tasks."""
+    return ["--dependencies", "reference", "--audience", "grader", "--brief", *package.PLATFORM_GRADE_OPTIONS,
+            *[word for task in tasks for word in ("--task", task)]]
+
+
+# --- The class ------------------------------------------------------------------------------------
+
+class ClassResults:
+    """The results folder: each student's task records (with their keys) and files."""
+
+    def __init__(self, folder):
+        self.folder = folder
+        (folder / "students").mkdir(parents=True, exist_ok=True)
+
+    def record_path(self, student, task):
+        return self.folder / "students" / student.folder / "records" / f"{task}.json"
+
+    def saved(self, student, task):
+        try:
+            return json.loads(self.record_path(student, task).read_text())
+        except (OSError, ValueError):
+            return None
+
+    def is_current(self, student, task, key):
+        saved = self.saved(student, task)
+        return saved is not None and saved.get("key") == key
+
+    def save(self, student, records, keys, log):
+        """A student's new task records, then their results.json and junit.xml from every task."""
+        for record in records:
+            grade.write_atomically(self.record_path(student, record["task"]),
+                                   json.dumps({"key": keys[record["task"]], "student": student.name, "record": record}))
+        own = self.folder / "students" / student.folder
+        grade.write_atomically(own / "grade.log", "\n".join(student.notes) + "\n\n" + log)
+        everything = [self.saved(student, task) for task in TASKS]
+        if all(everything):
+            results = grade.results_from_records([saved["record"] for saved in everything])
+            grade.write_atomically(own / "results.json", json.dumps(grade.gradescope_results(results, 0), indent=2) + "\n")
+            grade.write_atomically(own / "junit.xml", grade.junit_xml(results))
+
+    def class_records(self, students):
+        """{student name: {task: record}} of the students graded in every task."""
+        found = {}
+        for student in students:
+            saved = {task: self.saved(student, task) for task in TASKS}
+            if all(saved.values()):
+                found[student.name] = {task: saved[task]["record"] for task in TASKS}
+        return found
+
+
+def start_client(arguments, pending):
+    from distributed import Client
+    if arguments.client:
+        try:
+            return Client(arguments.client, timeout=30)
+        except (OSError, TimeoutError, ValueError) as error:
+            grade.fail(f"--client: no Dask scheduler answers at {arguments.client} ({error}); start one with "
+                       "`dask scheduler` and workers with `dask worker ADDRESS` on machines with a copy of this "
+                       "repository")
+    import logging
+    workers = max(1, min(arguments.workers, pending))
+    return Client(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
+                  silence_logs=logging.ERROR)
+
+
+def grade_class(arguments):
+    started = time.monotonic()
+    results_folder = (arguments.results or DEFAULT_RESULTS).absolute()
+    work = results_folder / "work"
+    shutil.rmtree(work, ignore_errors=True)
+    work.mkdir(parents=True)
+    try:
+        layout, students = read_class(arguments.class_folder.absolute(), work)
+    except (OSError, ValueError) as error:
+        grade.fail(f"--class {arguments.class_folder}: {error}")
+    if not students:
+        grade.fail(f"--class {arguments.class_folder} holds no student: give a folder with one entry per student, "
+                   "a Gradescope export, an Autolab download or a folder of GitHub Classroom repositories")
+    safe_folders(students)
+    for student in students:
+        find_files(student, work)
+    tasks = arguments.task or TASKS
+    fingerprints = suite_fingerprints()
+    results = ClassResults(results_folder)
+    pending = []  # (student, [tasks to grade], {task: key})
+    for student in students:
+        keys = {task: task_key(student, task, fingerprints) for task in TASKS}
+        stale = [task for task in tasks if not results.is_current(student, task, keys[task])]
+        # A student never graded in a task outside --task gets it too: their results need every task.
+        stale += [task for task in TASKS if task not in tasks and results.saved(student, task) is None]
+        if stale:
+            pending.append((student, stale, keys))
+    print(f"grade: {len(students)} students ({layout} layout) in {arguments.class_folder}; "
+          f"{len(students) - len(pending)} up to date, {len(pending)} to grade", flush=True)
+    failures = []
+    if pending:
+        failures = run_pending(arguments, results, pending)
+    graded = results.class_records(students)
+    write_reports(results_folder, students, graded)
+    shutil.rmtree(work, ignore_errors=True)
+    print(f"grade: {time.monotonic() - started:.0f} s; gradebook {results_folder / 'gradebook.csv'}, "
+          f"tests {results_folder / 'tests.csv'}, report {results_folder / 'report.html'}", flush=True)
+    if failures:
+        print(f"grade: {len(failures)} students could not be graded ({', '.join(failures[:5])}"
+              f"{', ...' if len(failures) > 5 else ''}): run the same command again to try them again; their "
+              "grade.log says why", flush=True)
+        return 1
+    return 0
+
+
+def run_pending(arguments, results, pending):
+    """Grades the pending students on Dask and saves each as it finishes; the names that failed."""
+    try:
+        from distributed import as_completed
+        import cloudpickle
+    except ImportError:
+        grade.fail("class grading needs Dask: install Debian's python3-distributed (./build.sh test installs it)")
+    cloudpickle.register_pickle_by_value(sys.modules[__name__])  # workers need not import this file
+    repo = str(arguments.worker_repo or REPO)
+    client = start_client(arguments, len(pending))
+    failures = []
+    futures = {}
+    try:
+        for student, stale, keys in pending:
+            files = {TASK_FILE[task]: text for task, text in student.files.items()}
+            future = client.submit(grade_on_worker, repo, files, grading_options(stale), STUDENT_CUTOFF, pure=False,
+                                   key=f"grade-{student.folder}-{time.time_ns()}")
+            futures[future] = (student, keys)
+        done = 0
+        for future in as_completed(list(futures)):
+            student, keys = futures[future]
+            done += 1
+            if future.status == "finished":
+                records, seconds, log = future.result()
+                results.save(student, records, keys, log)
+                points = sum(test["points"] for record in records for test in record["tests"] if test["passed"])
+                print(f"[{done}/{len(pending)}] {student.name}: {points} points in "
+                      f"{', '.join(record['task'] for record in records)} ({seconds:.0f} s)", flush=True)
+            else:
+                error = future.exception()
+                failures.append(student.name)
+                own = results.folder / "students" / student.folder
+                grade.write_atomically(own / "grade.log", f"{type(error).__name__}: {error}\n")
+                print(f"[{done}/{len(pending)}] {student.name}: not graded ({type(error).__name__}; see "
+                      f"{own / 'grade.log'})", flush=True)
+            future.release()
+    except KeyboardInterrupt:
+        client.cancel(list(futures))
+        print("\ngrade: interrupted; every student graded so far is kept: run the same command again to grade "
+              "the rest", flush=True)
+        raise SystemExit(130)
+    finally:
+        client.close()
+    return failures
+
+
+# --- Reports ----------------------------------------------------------------------------------
+
+def lead_line(feedback):
+    """The line of a failure message that says most: its hint, else its first line."""
+    lines = [line.strip() for line in feedback.splitlines() if line.strip()]
+    hint = next((line for line in lines if line.startswith("Hint:")), None)
+    return grade.cap(hint or (lines[0] if lines else "(no message)"), 300)
+
+
+def write_reports(folder, students, graded):
+    counted = [task for task in TASKS if task not in OPTIONAL]
+    rows = []
+    for student in students:
+        records = graded.get(student.name)
+        if records is None:
+            continue
+        points = {task: sum(t["points"] for t in records[task]["tests"] if t["passed"]) for task in TASKS}
+        rows.append({"student": student.name, **points, "total": sum(points[t] for t in counted),
+                     "optional": sum(points[t] for t in TASKS if t in OPTIONAL)})
+    with open(folder / "gradebook.csv.partial", "w", newline="") as out:
+        writer = csv.DictWriter(out, ["student", *TASKS, "total", "optional"])
+        writer.writeheader()
+        writer.writerows(rows)
+    os.replace(folder / "gradebook.csv.partial", folder / "gradebook.csv")
+
+    tests = collections.OrderedDict()  # (task, name) -> {points, visibility, failed, messages}
+    maxima = {}
+    for records in graded.values():
+        for task in TASKS:
+            record = records[task]
+            maxima[task] = record["maximum"]
+            if record["problem"]:
+                entry = tests.setdefault((task, "(builds)"), {"points": record["maximum"], "visibility": "visible",
+                                                              "failed": 0, "not_written": 0,
+                                                              "messages": collections.Counter()})
+                entry["failed"] += 1
+                entry["messages"][lead_line(record["problem"])] += 1
+            for test in record["tests"]:
+                entry = tests.setdefault((task, test["name"]), {"points": test["points"], "visibility": test["visibility"],
+                                                                "failed": 0, "not_written": 0,
+                                                                "messages": collections.Counter()})
+                if test["passed"]:
+                    continue
+                entry["failed"] += 1
+                if NOT_WRITTEN.search(test["feedback"]):  # the untouched stub: nothing to re-teach
+                    entry["not_written"] += 1
+                else:
+                    entry["messages"][lead_line(test["feedback"])] += 1
+    with open(folder / "tests.csv.partial", "w", newline="") as out:
+        writer = csv.writer(out)
+        writer.writerow(["task", "test", "points", "visibility", "failed", "not_written", "students",
+                         "most_common_failure"])
+        for (task, name), entry in tests.items():
+            common = entry["messages"].most_common(1)
+            writer.writerow([task, name, entry["points"], entry["visibility"], entry["failed"], entry["not_written"],
+                             len(graded), common[0][0] if common else ""])
+    os.replace(folder / "tests.csv.partial", folder / "tests.csv")
+    grade.write_atomically(folder / "report.html", report_html(rows, tests, maxima, counted, len(graded)))
+
+
+def svg_figure(figure):
+    import matplotlib.pyplot as plt
+    out = io.StringIO()
+    figure.savefig(out, format="svg", bbox_inches="tight")
+    plt.close(figure)
+    text = out.getvalue()
+    return text[text.index("<svg"):]
+
+
+def report_html(rows, tests, maxima, counted, students):
+    """One self-contained page (figures inline as SVG): what the class got, what it got wrong."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    figures = []
+    total_max = sum(maxima.get(task, 0) for task in counted)
+    if rows:
+        figure, axes = plt.subplots(figsize=(7, 3))
+        axes.hist([row["total"] for row in rows], bins=min(20, max(5, len(rows) // 2)), range=(0, max(total_max, 1)),
+                  color="#2e7d32")
+        axes.set_xlabel(f"total points (required tasks, of {total_max})")
+        axes.set_ylabel("students")
+        axes.yaxis.get_major_locator().set_params(integer=True)
+        axes.set_title("Totals")
+        figures.append(svg_figure(figure))
+        figure, axes = plt.subplots(figsize=(7, 3))
+        shares = [sum(row[task] for row in rows) / (len(rows) * maxima[task]) if maxima.get(task) else 0
+                  for task in TASKS]
+        axes.bar([f"{TASK_NUMBER[t]} {t}" for t in TASKS], [100 * share for share in shares],
+                 color=["#8d6e63" if t in OPTIONAL else "#2e7d32" for t in TASKS])
+        axes.set_ylim(0, 100)
+        axes.set_ylabel("% of the points, class mean")
+        axes.set_title("Each task (brown: optional)")
+        axes.tick_params(axis="x", labelrotation=45)
+        figures.append(svg_figure(figure))
+    # Ranked by the students who wrote the task and still fail the test (a stub teaches nothing).
+    most = sorted(((entry["failed"] - entry["not_written"], task, name, entry) for (task, name), entry in tests.items()
+                   if entry["failed"] > entry["not_written"]),
+                  key=lambda item: (-item[0], TASK_NUMBER[item[1]], item[2]))[:12]
+    not_written = {task: max((entry["not_written"] for (t, _), entry in tests.items() if t == task), default=0)
+                   for task in TASKS}
+    if most:
+        figure, axes = plt.subplots(figsize=(7, 0.35 * len(most) + 1))
+        labels = [f"{task}: {name}" for _, task, name, _ in most][::-1]
+        axes.barh(labels, [100 * failed / students for failed, *_ in most][::-1], color="#c62828")
+        axes.set_xlim(0, 100)
+        axes.set_xlabel("% of the students who fail it (having written its task)")
+        axes.set_title("The tests the class fails most")
+        figures.append(svg_figure(figure))
+    table = "".join(
+        f"<tr><td>{html.escape(task)}</td><td>{html.escape(name)}{' (hidden)' if entry['visibility'] == 'hidden' else ''}"
+        f"</td><td>{failed} of {students}</td><td>{html.escape(entry['messages'].most_common(1)[0][0])}</td></tr>"
+        for failed, task, name, entry in most)
+    mean = sum(row["total"] for row in rows) / len(rows) if rows else 0
+    unwritten = ", ".join(f"{task} {count}" for task, count in not_written.items() if count)
+    unwritten = f"<p>Students who left a task's stub untouched: {unwritten}.</p>" if unwritten else ""
+    return f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>billiard: the class's results</title>
+<style>body {{ font-family: sans-serif; max-width: 60em; margin: 2em auto; }} td, th {{ padding: 0.2em 0.6em;
+text-align: left; vertical-align: top; border-bottom: 1px solid #ddd; }} svg {{ max-width: 100%; height: auto; }}</style>
+</head><body>
+<h1>The class's results</h1>
+<p>{len(rows)} students graded; mean total {mean:.1f} of {total_max} points in the required tasks.
+Per student: <code>gradebook.csv</code>; per test: <code>tests.csv</code>.</p>
+{''.join(f'<figure>{svg}</figure>' for svg in figures)}
+<h2>What to teach again</h2>
+{unwritten}
+<p>The tests most students fail in a task they wrote, with the lead hint (or first line) of their most common
+failure message.</p>
+<table><tr><th>task</th><th>test</th><th>failed by</th><th>most common message</th></tr>{table}</table>
+</body></html>
+"""
+
+
+def main(arguments):
+    return grade_class(arguments)
