@@ -1266,22 +1266,79 @@ def grade(arguments):
 class protected:
     """With --protect-reference: while grading, the reference solutions, the instructor-only tests
     and the grader's build folder (which holds the reference code's objects) are readable by the
-    grader alone, not by the test user; their permissions are restored afterwards."""
+    grader alone, not by the test user; their permissions are restored afterwards.
+
+    Several gradings may run at once (the class grader's workers): the shared folders' original
+    modes and the gradings protecting them are kept in one file under a lock, so the folders
+    stay protected until the last grading ends and then get their original modes back, also
+    after a grading that was killed (its process is gone)."""
+
+    STATE = REPO / "build" / "grade" / "protected.json"
 
     def __init__(self, protect, build):
-        self.paths = [path for path in [REPO / "solutions", REPO / "tests" / "graded" / "hidden",
-                                        REPO / "tests" / "mutants", build.folder] if protect and path.is_dir()]
-        self.modes = {}
+        self.shared = [path for path in [REPO / "solutions", REPO / "tests" / "graded" / "hidden",
+                                         REPO / "tests" / "mutants"] if protect and path.is_dir()]
+        self.own = build.folder if protect and build.folder.is_dir() else None
+        self.own_mode = None
+
+    def update(self, change):
+        """Runs change(state) on the shared state under the lock, then saves it."""
+        import fcntl
+        self.STATE.parent.mkdir(parents=True, exist_ok=True)
+        with open(self.STATE.with_suffix(".lock"), "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            try:
+                state = json.loads(self.STATE.read_text())
+            except (OSError, ValueError):
+                state = {"modes": {}, "gradings": []}
+            state["gradings"] = [pid for pid in state["gradings"] if pid != os.getpid() and pid_alive(pid)]
+            change(state)
+            if state["gradings"]:
+                write_atomically(self.STATE, json.dumps(state))
+            else:
+                self.STATE.unlink(missing_ok=True)
 
     def __enter__(self):
-        for path in self.paths:
-            self.modes[path] = path.stat().st_mode
-            os.chmod(path, 0o700)
+        if self.own:
+            self.own_mode = self.own.stat().st_mode
+            os.chmod(self.own, 0o700)
+        if not self.shared:
+            return self
+
+        def enter(state):
+            if not state["gradings"]:  # the first grading: it saves the original modes
+                for path, mode in state["modes"].items():  # left by a grading that was killed
+                    if Path(path).is_dir():
+                        os.chmod(path, mode)
+                state["modes"] = {str(path): path.stat().st_mode for path in self.shared}
+            for path in self.shared:
+                os.chmod(path, 0o700)
+            state["gradings"].append(os.getpid())
+        self.update(enter)
         return self
 
     def __exit__(self, *_):
-        for path, mode in self.modes.items():
-            os.chmod(path, mode)
+        if self.own:
+            os.chmod(self.own, self.own_mode)
+        if not self.shared:
+            return
+
+        def leave(state):
+            if not state["gradings"]:  # the last grading: the original modes come back
+                for path, mode in state["modes"].items():
+                    if Path(path).is_dir():
+                        os.chmod(path, mode)
+        self.update(leave)
+
+
+def pid_alive(pid):
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
 
 
 def task_limits(arguments, build, compiler, sandbox, scratch, grading):

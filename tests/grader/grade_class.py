@@ -74,7 +74,7 @@ DEFAULT_RESULTS = REPO / "build" / "grade" / "class"
 # next run): the platforms' bound, plus a worker's first build of the grader.
 STUDENT_CUTOFF = package.AUTOLAB_CUTOFF
 LAYOUTS = ("gradescope", "autolab", "classroom", "folders")
-AUTOLAB_FILE = re.compile(r"^(?P<email>[^_/]+@[^_/]+)_(?P<version>\d+)_(?P<name>.+)$")
+AUTOLAB_FILE = re.compile(r"^(?P<email>[^/]+@[^_/@]+)_(?P<version>\d+)_(?P<name>.+)$")  # a domain has no _
 AUTOLAB_VERSIONED = re.compile(r"^(?P<version>\d+)_(?P<name>.+)$")
 
 
@@ -332,19 +332,18 @@ class ClassResults:
                                    json.dumps({"key": keys[record["task"]], "student": student.name, "record": record}))
         own = self.folder / "students" / student.folder
         grade.write_atomically(own / "grade.log", "\n".join(student.notes) + "\n\n" + log)
-        everything = [self.saved(student, task) for task in TASKS]
-        if all(everything):
-            results = grade.results_from_records([saved["record"] for saved in everything])
-            grade.write_atomically(own / "results.json", json.dumps(grade.gradescope_results(results, 0), indent=2) + "\n")
-            grade.write_atomically(own / "junit.xml", grade.junit_xml(results))
+        saved = [record for task in TASKS if (record := self.saved(student, task))]
+        results = grade.results_from_records([entry["record"] for entry in saved])
+        grade.write_atomically(own / "results.json", json.dumps(grade.gradescope_results(results, 0), indent=2) + "\n")
+        grade.write_atomically(own / "junit.xml", grade.junit_xml(results))
 
     def class_records(self, students):
-        """{student name: {task: record}} of the students graded in every task."""
+        """{student name: {task: record}} of the tasks each student has been graded in."""
         found = {}
         for student in students:
-            saved = {task: self.saved(student, task) for task in TASKS}
-            if all(saved.values()):
-                found[student.name] = {task: saved[task]["record"] for task in TASKS}
+            saved = {task: entry["record"] for task in TASKS if (entry := self.saved(student, task))}
+            if saved:
+                found[student.name] = saved
         return found
 
 
@@ -386,8 +385,6 @@ def grade_class(arguments):
     for student in students:
         keys = {task: task_key(student, task, fingerprints) for task in TASKS}
         stale = [task for task in tasks if not results.is_current(student, task, keys[task])]
-        # A student never graded in a task outside --task gets it too: their results need every task.
-        stale += [task for task in TASKS if task not in tasks and results.saved(student, task) is None]
         if stale:
             pending.append((student, stale, keys))
     print(f"grade: {len(students)} students ({layout} layout) in {arguments.class_folder}; "
@@ -470,9 +467,10 @@ def write_reports(folder, students, graded):
         records = graded.get(student.name)
         if records is None:
             continue
-        points = {task: sum(t["points"] for t in records[task]["tests"] if t["passed"]) for task in TASKS}
-        rows.append({"student": student.name, **points, "total": sum(points[t] for t in counted),
-                     "optional": sum(points[t] for t in TASKS if t in OPTIONAL)})
+        points = {task: sum(t["points"] for t in records[task]["tests"] if t["passed"]) for task in records}
+        rows.append({"student": student.name, **{task: points.get(task, "") for task in TASKS},
+                     "total": sum(points.get(t, 0) for t in counted),
+                     "optional": sum(points.get(t, 0) for t in TASKS if t in OPTIONAL)})
     with open(folder / "gradebook.csv.partial", "w", newline="") as out:
         writer = csv.DictWriter(out, ["student", *TASKS, "total", "optional"])
         writer.writeheader()
@@ -482,8 +480,7 @@ def write_reports(folder, students, graded):
     tests = collections.OrderedDict()  # (task, name) -> {points, visibility, failed, messages}
     maxima = {}
     for records in graded.values():
-        for task in TASKS:
-            record = records[task]
+        for task, record in records.items():
             maxima[task] = record["maximum"]
             if record["problem"]:
                 entry = tests.setdefault((task, "(builds)"), {"points": record["maximum"], "visibility": "visible",
@@ -540,7 +537,7 @@ def report_html(rows, tests, maxima, counted, students):
         axes.set_title("Totals")
         figures.append(svg_figure(figure))
         figure, axes = plt.subplots(figsize=(7, 3))
-        shares = [sum(row[task] for row in rows) / (len(rows) * maxima[task]) if maxima.get(task) else 0
+        shares = [sum(row[task] or 0 for row in rows) / (len(rows) * maxima[task]) if maxima.get(task) else 0
                   for task in TASKS]
         axes.bar([f"{TASK_NUMBER[t]} {t}" for t in TASKS], [100 * share for share in shares],
                  color=["#8d6e63" if t in OPTIONAL else "#2e7d32" for t in TASKS])

@@ -1,0 +1,263 @@
+#!/usr/bin/python3
+"""Tests of class grading (grade_class.py, ./build.sh grade --class DIR).
+
+    /usr/bin/python3 tests/grader/test_class.py WORK_FOLDER [Case.test ...]
+
+A class of 20 students is made from the project's own material (the reference solutions, the
+stubs, every mutant of three tasks, the hostile files and a mix) and written in each layout the
+class grader reads. It is graded in those three tasks (the cheapest to grade; every step of the
+grading is the same for the others) on a Dask LocalCluster of two worker processes that the test
+starts, interrupted part-way and resumed, and compared with grading each student alone.
+"""
+
+import json
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import tarfile
+import time
+import unittest
+import zipfile
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+REPO = HERE.parents[1]
+sys.path.insert(0, str(HERE))
+import grade_class  # noqa: E402
+import package  # noqa: E402
+from progress import TASK_FILE  # noqa: E402
+from test_grader import mutant_source  # noqa: E402
+
+WORK = None  # set from the command line
+GRADED = ["init_velocities", "visualize_table", "kinetic_energy"]
+LAYOUTS = grade_class.LAYOUTS
+
+
+def run(command, **options):
+    done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, errors="replace",
+                          **options)
+    return done.returncode, done.stdout
+
+
+def the_class():
+    """{student: {file name: bytes}}: 20 students' files for the graded tasks."""
+    def files(**sources):
+        return {TASK_FILE[task]: path.read_bytes() if isinstance(path, Path) else path
+                for task, path in sources.items()}
+    reference = {task: REPO / "solutions" / TASK_FILE[task] for task in GRADED}
+    stubs = {task: REPO / "tasks" / TASK_FILE[task] for task in GRADED}
+    students = {"reference": files(**reference), "stubs": files(**stubs),
+                "hostile": files(**{task: HERE / "hostile" / TASK_FILE[task] for task in GRADED})}
+    for task in GRADED:
+        for mutant in sorted((REPO / "tests" / "mutants" / task).glob("*.mutant")):
+            students[f"{task}-{mutant.stem}"] = files(**{**reference, task: mutant_source(mutant).encode()})
+    mutant = sorted((REPO / "tests" / "mutants" / "kinetic_energy").glob("*.mutant"))[0]
+    students["mixed"] = files(init_velocities=reference["init_velocities"], visualize_table=stubs["visualize_table"],
+                              kinetic_energy=mutant_source(mutant).encode())
+    return students
+
+
+def write_layout(layout, students, folder):
+    """Writes the class in a layout; returns {name the layout gives: student}."""
+    shutil.rmtree(folder, ignore_errors=True)
+    folder.mkdir(parents=True)
+    names = {}
+    for number, (student, files) in enumerate(sorted(students.items()), start=1):
+        if layout == "folders":  # some in a tasks/ folder, some zipped, some loose
+            if number % 3 == 0:
+                with zipfile.ZipFile(folder / f"{student}.zip", "w") as archive:
+                    for name, text in files.items():
+                        archive.writestr(f"{student}-main/tasks/{name}", text)
+            else:
+                own = folder / student / ("tasks" if number % 3 == 1 else "")
+                own.mkdir(parents=True, exist_ok=True)
+                for name, text in files.items():
+                    (own / name).write_bytes(text)
+            names[student] = student
+        elif layout == "gradescope":  # an export, zipped, with its metadata
+            own = folder / "export" / f"submission_{1000 + number}"
+            own.mkdir(parents=True)
+            for name, text in files.items():
+                (own / name).write_bytes(text)
+            names[f"Student {student}"] = student
+        elif layout == "autolab":  # a tar per handin, an older version of some
+            email = f"{student}@example.edu"
+            for version, content in ([(1, {}), (2, files)] if number % 2 else [(3, files)]):
+                with tarfile.open(folder / f"{email}_{version}_handin.tar", "w") as archive:
+                    for name, text in (content or {TASK_FILE["kinetic_energy"]: b"// an older version\n"}).items():
+                        path = folder / "member"
+                        path.write_bytes(text)
+                        archive.add(path, arcname=f"tasks/{name}")
+                        path.unlink()
+            names[email] = student
+        elif layout == "classroom":  # gh classroom clone student-repos: a git repository each
+            own = folder / f"billiard-course-{student}"
+            (own / ".git").mkdir(parents=True)
+            (own / "tasks").mkdir()
+            for name, text in files.items():
+                (own / "tasks" / name).write_bytes(text)
+            names[student] = student
+    if layout == "gradescope":
+        metadata = "".join(f"submission_{1000 + number}:\n  :submitters:\n  - :name: Student {student}\n"
+                           f"    :email: {student}@example.edu\n    :sid: '{number}'\n  :score: 0.0\n"
+                           for number, student in enumerate(sorted(students), start=1))
+        (folder / "export" / "submission_metadata.yml").write_text(metadata)
+        shutil.make_archive(str(folder / "assignment_export"), "zip", folder / "export")
+        shutil.rmtree(folder / "export")
+    return names
+
+
+def gradebook(results):
+    """{student: {task: points}} from a class's gradebook.csv (the graded tasks)."""
+    import csv
+    with open(results / "gradebook.csv") as file:
+        return {row["student"]: {task: int(row[task]) for task in GRADED} for row in csv.DictReader(file)}
+
+
+def run_class(class_folder, results, *options, wait=True):
+    command = ["/usr/bin/python3", str(HERE / "grade.py"), "--class", str(class_folder), "--results", str(results),
+               *[word for task in GRADED for word in ("--task", task)], *options]
+    if not wait:
+        return subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    return run(command, timeout=1800)
+
+
+class Layouts(unittest.TestCase):
+    def test_every_layout_names_each_student_and_finds_their_files(self):
+        students = the_class()
+        self.assertGreaterEqual(len(students), 20)
+        for layout in LAYOUTS:
+            folder = WORK / "layouts" / layout
+            names = write_layout(layout, students, folder)
+            source = next(folder.iterdir()) if layout == "gradescope" else folder
+            found, read = grade_class.read_class(source, WORK / "layouts" / f"{layout}-work")
+            self.assertEqual(found, layout)
+            self.assertEqual(sorted(student.name for student in read), sorted(names))
+            grade_class.safe_folders(read)
+            for student in read:
+                grade_class.find_files(student, WORK / "layouts" / f"{layout}-work")
+                expected = students[names[student.name]]
+                self.assertEqual({TASK_FILE[task]: student.files[task] for task in GRADED}, expected,
+                                 f"{layout}: {student.name}")
+
+    def test_a_change_to_one_suite_changes_that_task_key_alone(self):
+        copy = WORK / "fingerprints"
+        shutil.rmtree(copy, ignore_errors=True)
+        for part in ["CMakeLists.txt", "CMakePresets.json", "lib/include", "lib/src", "tests/support", "tests/graded",
+                     "tests/CMakeLists.txt", "tests/grader", "solutions", "tasks"]:
+            source, target = REPO / part, copy / part
+            target.parent.mkdir(parents=True, exist_ok=True)
+            (shutil.copytree if source.is_dir() else shutil.copyfile)(source, target)
+        saved = grade_class.REPO
+        try:
+            grade_class.REPO = copy
+            before = grade_class.suite_fingerprints()
+            with open(copy / "tests" / "graded" / "test_kinetic_energy.cpp", "a") as file:
+                file.write("\n// a fix to a test\n")
+            after = grade_class.suite_fingerprints()
+            self.assertEqual([task for task in before if before[task] != after[task]], ["kinetic_energy"])
+            with open(copy / "tests" / "support" / "graded.cpp", "a") as file:
+                file.write("\n// a fix to the support code\n")
+            self.assertTrue(all(after[task] != value for task, value in grade_class.suite_fingerprints().items()))
+        finally:
+            grade_class.REPO = saved
+
+
+class OnACluster(unittest.TestCase):
+    def test_a_class_on_two_workers_resumes_and_equals_each_student_alone(self):
+        from distributed import LocalCluster
+        students = the_class()
+        folder = WORK / "class-folders"
+        write_layout("folders", students, folder)
+        results = WORK / "results-folders"
+        shutil.rmtree(results, ignore_errors=True)
+
+        # Interrupted part-way (Ctrl-C), with its own two local workers: what finished is kept.
+        process = run_class(folder, results, "--workers", "2", wait=False)
+        records = results / "students"
+        deadline = time.monotonic() + 900
+        while time.monotonic() < deadline and process.poll() is None:
+            done = [own for own in records.glob("*") if len(list(own.glob("records/*.json"))) == len(GRADED)]
+            if len(done) >= 4:
+                break
+            time.sleep(0.2)
+        process.send_signal(signal.SIGINT)
+        output = process.communicate(timeout=300)[0]
+        self.assertEqual(process.returncode, 130, output)
+        self.assertIn("run the same command again to grade the rest", output)
+        kept = {own.name for own in records.glob("*") if len(list(own.glob("records/*.json"))) == len(GRADED)}
+        self.assertGreaterEqual(len(kept), 4, output)
+
+        # Run again on a cluster the test starts: only the rest is graded.
+        with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
+            status, output = run_class(folder, results, "--client", cluster.scheduler_address)
+            self.assertEqual(status, 0, output[-5000:])
+            counts = re.search(r"(\d+) up to date, (\d+) to grade", output)
+            self.assertEqual((int(counts[1]) + int(counts[2]), int(counts[1]) >= len(kept)),
+                             (len(students), True), output[:2000])
+            points = gradebook(results)
+            self.assertEqual(sorted(points), sorted(students))
+
+            # The same class in the other layouts, graded on the same cluster: the same points.
+            for layout in ["gradescope", "autolab", "classroom"]:
+                names = write_layout(layout, students, WORK / f"class-{layout}")
+                source = next((WORK / f"class-{layout}").iterdir()) if layout == "gradescope" else WORK / f"class-{layout}"
+                status, output = run_class(source, WORK / f"results-{layout}", "--client", cluster.scheduler_address)
+                self.assertEqual(status, 0, output[-5000:])
+                self.assertEqual({names[name]: value for name, value in gradebook(WORK / f"results-{layout}").items()},
+                                 points, layout)
+
+        # A finished class: a run again grades nobody.
+        status, output = run_class(folder, results, "--workers", "2")
+        self.assertEqual(status, 0, output)
+        self.assertIn(f"{len(students)} up to date, 0 to grade", output)
+
+        # Each student graded alone, as the platforms grade one submission: the same points.
+        submission = WORK / "alone" / "submission"
+        for student, files in sorted(students.items()):
+            shutil.rmtree(submission.parent, ignore_errors=True)
+            submission.mkdir(parents=True)
+            for task in package.TASKS:
+                (submission / TASK_FILE[task]).write_bytes(files.get(TASK_FILE[task])
+                                                           or (REPO / "tasks" / TASK_FILE[task]).read_bytes())
+            command = ["/usr/bin/python3", str(HERE / "grade.py"), "--submission", str(submission), "--results",
+                       str(submission.parent / "results"), "--build", str(WORK / "alone-build"),
+                       *grade_class.grading_options(GRADED)]
+            if os.geteuid() == 0:
+                command.append("--protect-reference")
+            status, output = run(command, timeout=900)
+            self.assertEqual(status, 0, output[-3000:])
+            report = json.loads((submission.parent / "results" / "results.json").read_text())
+            alone = {task: sum(test["score"] for test in report["tests"] if test["name"].startswith(task + ":"))
+                     for task in GRADED}
+            self.assertEqual(alone, points[student], student)
+        self.assertEqual(points["reference"], {task: max(row[task] for row in points.values()) for task in GRADED})
+        self.assertEqual(set(points["stubs"].values()), {0})
+
+        # The instructor's files: every student's results, the tests' table and the report.
+        for student in students:
+            report = json.loads((results / "students" / student / "results.json").read_text())
+            self.assertFalse([t for t in report["tests"] if t["visibility"] == "hidden" and t["name"] != f"{t['name'].split(':')[0]}: hidden test"])
+        tests_csv = (results / "tests.csv").read_text()
+        self.assertIn("most_common_failure", tests_csv.splitlines()[0])
+        page = (results / "report.html").read_text()
+        self.assertEqual(page.count("<svg"), 3)
+        self.assertIn("What to teach again", page)
+
+
+def main():
+    global WORK
+    if len(sys.argv) < 2:
+        print("usage: test_class.py WORK_FOLDER [Case.test ...]", file=sys.stderr)
+        return 2
+    WORK = Path(sys.argv[1]).absolute() / "class-tests"
+    WORK.mkdir(parents=True, exist_ok=True)
+    program = unittest.main(argv=[sys.argv[0], "-v", *sys.argv[2:]], exit=False)
+    return 0 if program.result.wasSuccessful() else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
