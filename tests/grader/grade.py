@@ -1134,6 +1134,9 @@ def parse_arguments(argv):
                              "suites are not run again (for grading many variants; not for untrusted setups)")
     arguments = parser.parse_args(argv)
     if arguments.class_folder is not None:
+        if not (REPO / "solutions" / "CMakeLists.txt").is_file():
+            fail("--class grades with the reference solutions for the other tasks, which this copy does not have: "
+                 "grade a class in the instructors' repository")
         if not arguments.class_folder.exists():
             fail(f"--class {arguments.class_folder} does not exist; give the folder (or archive) of the class")
         if arguments.workers is None:

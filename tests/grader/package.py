@@ -65,6 +65,9 @@ STUDENT_EXCLUDED = [
     "tests/grader/test_packages.py",  # ... and its tests
     "tests/grader/release_check.py",  # ... and the check of the exported release
     "tests/grader/grade_bench.py",    # the grader's benchmark (grades the reference solutions)
+    "tests/grader/grade_class.py",    # grading a class (with the reference solutions)
+    "tests/grader/grade_class_bench.py",  # ... its benchmark
+    "tests/grader/test_class.py",     # ... and its tests
     ".ci/",                           # the instructors' CI (it expects the reference solutions)
     ".github/workflows/ci.yml",       # ... and the same CI on GitHub
     "lib/README.md",                  # the library's guide (students read tasks/README.md)
