@@ -49,6 +49,7 @@ python_packages=(
 # The tests need these as well (test):
 test_packages=(
   ccache                         # the tests build the sources again elsewhere (the grader's build)
+  chromium                       # the class report's test opens it in a real browser, headless
 )
 
 # install_missing_packages [PACKAGE...]: the core packages above and the given ones.

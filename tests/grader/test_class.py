@@ -246,6 +246,24 @@ class OnACluster(unittest.TestCase):
         page = (results / "report.html").read_text()
         self.assertEqual(page.count("<svg"), 3)
         self.assertIn("What to teach again", page)
+        self.check_drawn(results / "report.html")
+
+    def check_drawn(self, page):
+        """Opens the page in Debian's headless chromium and checks what it draws: the figures'
+        colours (the bars of the totals and of the most-failed tests) on a page that is not blank."""
+        from PIL import Image
+        picture = page.with_suffix(".png")
+        picture.unlink(missing_ok=True)
+        status, output = run(["chromium", "--headless", "--no-sandbox", "--disable-gpu", f"--screenshot={picture}",
+                              "--window-size=1000,2400", page.as_uri()], timeout=300)
+        self.assertTrue(picture.is_file(), output[-2000:])
+        with Image.open(picture) as image:
+            colours = image.convert("RGB").getcolors(maxcolors=1 << 20)
+        counts = {colour: count for count, colour in colours}
+        green, red = (0x2e, 0x7d, 0x32), (0xc6, 0x28, 0x28)  # report_html's bar colours
+        self.assertGreater(counts.get(green, 0), 2000, "the figures of the totals and tasks are not drawn")
+        self.assertGreater(counts.get(red, 0), 2000, "the figure of the most-failed tests is not drawn")
+        self.assertGreater(len(counts), 50, "the page is (nearly) blank")
 
 
 def main():
