@@ -125,14 +125,20 @@ def unpack(archive, destination):
 
 
 def class_folder(path, work):
-    """The folder that holds the class: path itself, its unpacked copy if it is an archive, and
-    the one folder inside if that is all there is (an export's own top folder)."""
-    if path.is_file():
+    """The folder that holds the class: path itself, or its unpacked copy if it is an archive;
+    then the one folder inside where that is all an archive holds, or where it holds a
+    Gradescope export's metadata (an export's own top folder)."""
+    unpacked = path.is_file()
+    if unpacked:
         path = unpack(path, work / "unpacked")
     entries = [entry for entry in path.iterdir() if not entry.name.startswith((".", "__MACOSX"))]
-    if len(entries) == 1 and entries[0].is_dir() and not (entries[0] / ".git").exists():
-        return class_folder(entries[0], work)
+    if len(entries) == 1 and entries[0].is_dir() and (unpacked or (entries[0] / "submission_metadata.yml").is_file()):
+        return entries[0]
     return path
+
+
+def is_archive(path):
+    return path.is_file() and (zipfile.is_zipfile(path) or tarfile.is_tarfile(path))
 
 
 def read_class(path, work):
@@ -150,14 +156,16 @@ def read_class(path, work):
     if len(repositories) >= 2 and repositories == entries and prefix:
         return "classroom", [Student(entry.name[len(prefix):], [entry]) for entry in entries]
     return "folders", [Student(re.sub(r"(\.tar\.gz|\.tgz|\.tar|\.zip)$", "", entry.name), [entry])
-                       for entry in entries]
+                       for entry in entries if entry.is_dir() or is_archive(entry)]
 
 
 def gradescope_students(folder):
     import yaml  # Debian's python3-yaml, as build.sh installs it
     metadata = yaml.safe_load((folder / "submission_metadata.yml").read_text()) or {}
     students = []
-    for name in sorted(metadata):
+    for name in sorted(metadata, key=str):
+        if "/" in str(name) or str(name).startswith("."):
+            continue  # only the export's own folders
         submission = folder / str(name)
         if not submission.is_dir():
             continue
