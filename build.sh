@@ -13,7 +13,7 @@
 #                                           setup; root or sudo)
 # Each first installs the Debian packages the build needs (only the missing ones), then configure
 # and build with CMake. `test -L LABEL` builds only what those tests need, and the labels the
-# full run leaves out (stress, platforms) run when named: ./build.sh test -L stress. Set
+# full run leaves out (stress, platforms, contributing) run when named: ./build.sh test -L stress. Set
 # BILLIARD_PRESET to use another preset from CMakePresets.json (default: "release", the
 # reference solutions, where solutions/ exists; else "tasks").
 set -euo pipefail
@@ -169,14 +169,14 @@ needs_python() {
 }
 
 # excluded_labels_named: sets `include_excluded` to "-LE ^$" (exclude nothing) when a selected
-# label is one the test presets leave out (stress, platforms) and the options exclude nothing
+# label is one the test presets leave out (stress, platforms, contributing) and the options exclude nothing
 # themselves, so that `./build.sh test -L stress` runs those tests.
 excluded_labels_named() {
   include_excluded=()
   local label
   [ "$label_exclude" = 1 ] && return 0
   for label in "${labels[@]}"; do
-    [[ "$label" =~ stress|platforms ]] && include_excluded=(-LE '^$')
+    [[ "$label" =~ stress|platforms|contributing ]] && include_excluded=(-LE '^$')
   done
   return 0
 }

@@ -33,7 +33,8 @@ Nothing is lost and nothing is done twice: a student's results are written as so
 graded, task by task, with a key made of the task file's content and the task's suite (its
 tests, the support code, the reference code of the other tasks, the grader). Running the same
 command again grades only the tasks whose key changed, so an interrupted run is resumed by
-running it again, and after a fix to one task's tests only that task is regraded.
+running it again, and after a fix to one task's tests only that task is regraded. With --task,
+only those tasks are graded (the others keep what earlier runs gave, or stay empty).
 
 Written to --results (default build/grade/class/): students/<student>/ with the platforms'
 results.json and junit.xml (what the student may see: hidden tests without name or message) and

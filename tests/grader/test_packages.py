@@ -518,6 +518,97 @@ class DevContainer(unittest.TestCase):
         self.assertFalse(package.excluded(".devcontainer/devcontainer.json", package.STUDENT_EXCLUDED))
 
 
+class Contributing(unittest.TestCase):
+    """The contributors' guide's steps, followed in a copy of the project."""
+
+    STUB = """// Task 11: mean_speed -- the mean speed of the circles.
+#include "billiard/course.hpp"
+#include "billiard/not_implemented.hpp"
+
+namespace billiard {
+
+double mean_speed(const Velocities& velocities) {
+  throw NotImplemented(11, "mean_speed", "tasks/mean_speed.cpp");
+  (void)velocities;
+}
+
+}  // namespace billiard
+"""
+    SOLUTION = """#include "billiard/course.hpp"
+
+namespace billiard {
+
+double mean_speed(const Velocities& velocities) {
+  if (velocities.rows() == 0) return 0;
+  return velocities.rowwise().norm().mean();
+}
+
+}  // namespace billiard
+"""
+    SUITE = """#include "support/graded.hpp"
+#include "support/student_messages.hpp"
+
+namespace {
+
+GRADED_TEST(MeanSpeed, TwoCircles, 2, visible) {
+  billiard::Velocities v(2, 2);
+  v << 3, 4, 0, 1;
+  EXPECT_DOUBLE_EQ(billiard::mean_speed(v), 3.0)
+      << billiard::testing::explain("(5 + 1) / 2 = 3", billiard::testing::text(billiard::mean_speed(v)),
+                                    "average |v| over the circles");
+}
+
+GRADED_TEST(MeanSpeed, NoCircles, 1, after_due_date) {
+  EXPECT_EQ(billiard::mean_speed(billiard::Velocities(0, 2)), 0.0);
+}
+
+}  // namespace
+"""
+
+    def test_adding_a_task_as_the_guide_says_gets_it_graded(self):
+        """Follows "Add a task" of .github/CONTRIBUTING.md in a copy: the task's declaration, its
+        stub and reference, its line in course.txt, its suite and the Classroom workflow; then
+        the grader grades it (the reference: full points; the stub: none) and the workflow has
+        its step. (Mutants and the command's and Python module's use of it are left out.)"""
+        guide = " ".join((REPO / ".github" / "CONTRIBUTING.md").read_text().split())
+        for step in ["lib/include/billiard/course.hpp", "tasks/<task>.cpp", "solutions/<task>.cpp",
+                     "tests/grader/not_implemented.cpp", "tests/grader/course.txt", "tests/graded/test_<task>.cpp",
+                     "/usr/bin/python3 tests/grader/package.py classroom"]:
+            self.assertIn(step, guide)
+        copy = fresh(WORK / "contributing")
+        for path in package.project_files():
+            (copy / path).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(REPO / path, copy / path)
+        header = copy / "lib" / "include" / "billiard" / "course.hpp"
+        text = header.read_text()
+        at = text.rindex("}  // namespace billiard")
+        header.write_text(text[:at] + "// Task 11. The mean speed of the circles (0 for none).\n"
+                          "double mean_speed(const Velocities& velocities);\n\n" + text[at:])
+        (copy / "tasks" / "mean_speed.cpp").write_text(self.STUB)
+        (copy / "solutions" / "mean_speed.cpp").write_text(self.SOLUTION)
+        (copy / "tests" / "graded" / "test_mean_speed.cpp").write_text(self.SUITE)
+        stand_ins = copy / "tests" / "grader" / "not_implemented.cpp"
+        text = stand_ins.read_text()
+        at = text.rindex("}  // namespace billiard")
+        stand_ins.write_text(text[:at] + "#ifdef BILLIARD_STUB_MEAN_SPEED\ndouble mean_speed(const Velocities&) "
+                             "{ throw NotImplemented(11, \"mean_speed\", \"mean_speed.cpp\"); }\n#endif\n\n" + text[at:])
+        with open(copy / "tests" / "grader" / "course.txt", "a") as course:
+            course.write("11 mean_speed optional\n")
+        status, output = run(["/usr/bin/python3", "tests/grader/package.py", "classroom"], cwd=copy, timeout=3600)
+        self.assertEqual(status, 0, output[-3000:])
+        self.assertIn("mean_speed", (copy / package.WORKFLOW).read_text())
+        for submission, points in [("solutions", 3), ("tasks", 0)]:
+            status, output = run(["/usr/bin/python3", "tests/grader/grade.py", "--submission", submission,
+                                  "--task", "mean_speed", "--results", f"build/grade/{submission}"],
+                                 cwd=copy, timeout=3600)
+            self.assertEqual(status, 0, output[-3000:])
+            report = json.loads((copy / "build" / "grade" / submission / "results.json").read_text())
+            self.assertEqual(sum(test["score"] for test in report["tests"] if test["name"].startswith("mean_speed:")),
+                             points, output[-3000:])
+            self.assertEqual(sum(test["max_score"] for test in report["tests"]
+                                 if test["name"].startswith("mean_speed:")), 3)
+
+
 class Classroom(unittest.TestCase):
     def test_committed_workflow_is_the_generated_one(self):
         status, output = run(["/usr/bin/python3", str(HERE / "package.py"), "classroom", "--tests", str(TESTS), "--check"])
