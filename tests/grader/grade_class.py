@@ -306,10 +306,11 @@ def grade_on_worker(repo, files, options, cutoff):
         return json.loads(records.read_text()), seconds, log
 
 
-def grading_options(tasks):
-    """grade.py's options for one student of the class: the platforms' grading, for the given tasks."""
+def grading_options(tasks, jobs=None):
+    """grade.py's options for one student of the class: the platforms' grading, for the given
+    tasks; `jobs` tests at once (a worker takes one core: the class runs on many)."""
     return ["--dependencies", "reference", "--audience", "grader", "--brief", *package.PLATFORM_GRADE_OPTIONS,
-            *[word for task in tasks for word in ("--task", task)]]
+            *[word for task in tasks for word in ("--task", task)], *(["--jobs", str(jobs)] if jobs else [])]
 
 
 # --- The class ------------------------------------------------------------------------------------
@@ -429,7 +430,7 @@ def run_pending(arguments, results, pending):
     try:
         for student, stale, keys in pending:
             files = {TASK_FILE[task]: text for task, text in student.files.items()}
-            future = client.submit(grade_on_worker, repo, files, grading_options(stale), STUDENT_CUTOFF, pure=False,
+            future = client.submit(grade_on_worker, repo, files, grading_options(stale, jobs=1), STUDENT_CUTOFF, pure=False,
                                    key=f"grade-{student.folder}-{time.time_ns()}")
             futures[future] = (student, keys)
         done = 0
