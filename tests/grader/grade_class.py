@@ -335,13 +335,14 @@ class ClassResults:
         saved = self.saved(student, task)
         return saved is not None and saved.get("key") == key
 
-    def save(self, student, records, keys, log):
+    def save(self, student, records, keys, log=None):
         """A student's new task records, then their results.json and junit.xml from every task."""
         for record in records:
             grade.write_atomically(self.record_path(student, record["task"]),
                                    json.dumps({"key": keys[record["task"]], "student": student.name, "record": record}))
         own = self.folder / "students" / student.folder
-        grade.write_atomically(own / "grade.log", "\n".join(student.notes) + "\n\n" + log)
+        if log is not None:
+            grade.write_atomically(own / "grade.log", "\n".join(student.notes) + "\n\n" + log)
         saved = [record for task in TASKS if (record := self.saved(student, task))]
         results = grade.results_from_records([entry["record"] for entry in saved])
         grade.write_atomically(own / "results.json", json.dumps(grade.gradescope_results(results, 0), indent=2) + "\n")
@@ -391,17 +392,36 @@ def grade_class(arguments):
     tasks = arguments.task or TASKS
     fingerprints = suite_fingerprints()
     results = ClassResults(results_folder)
-    pending = []  # (student, [tasks to grade], {task: key})
+    # Grading is deterministic: a task file that several students hand in alike (the untouched
+    # stub of a stage, a shared copy) is graded once, and its record copied to the others.
+    known = {(task, saved["key"]): saved["record"] for student in students for task in TASKS
+             if (saved := results.saved(student, task))}
+    pending, copies, claimed = [], [], set()  # (student, [tasks to grade], {task: key}); (student, task, key)
+    stale_students = 0
     for student in students:
         keys = {task: task_key(student, task, fingerprints) for task in TASKS}
         stale = [task for task in tasks if not results.is_current(student, task, keys[task])]
-        if stale:
-            pending.append((student, stale, keys))
+        stale_students += bool(stale)
+        own = []
+        for task in stale:
+            if (task, keys[task]) in known or (task, keys[task]) in claimed:
+                copies.append((student, task, keys))
+            else:
+                claimed.add((task, keys[task]))
+                own.append(task)
+        if own:
+            pending.append((student, own, keys))
     print(f"grade: {len(students)} students ({layout} layout) in {arguments.class_folder}; "
-          f"{len(students) - len(pending)} up to date, {len(pending)} to grade", flush=True)
+          f"{len(students) - stale_students} up to date, {stale_students} to grade "
+          f"({len(claimed)} different task files)", flush=True)
     failures = []
-    if pending:
-        failures = run_pending(arguments, results, pending)
+    try:
+        if pending:
+            failures = run_pending(arguments, results, pending)
+    finally:  # also when interrupted: what was graded is copied to whoever handed in the same
+        known.update({(task, saved["key"]): saved["record"] for student, own, _ in pending for task in own
+                      if (saved := results.saved(student, task))})
+        failures += fill_copies(results, copies, known, {student.folder for student, _, _ in pending}, failures)
     graded = results.class_records(students)
     write_reports(results_folder, students, graded)
     shutil.rmtree(work, ignore_errors=True)
@@ -413,6 +433,22 @@ def grade_class(arguments):
               "grade.log says why", flush=True)
         return 1
     return 0
+
+
+def fill_copies(results, copies, known, graded_folders, failures):
+    """Saves the records of the task files graded for another student; the names of the students
+    whose copy is missing (its grading failed), not yet in failures."""
+    copied, missing = collections.defaultdict(list), []
+    for student, task, keys in copies:
+        if (task, keys[task]) in known:
+            copied[student.folder].append((student, known[(task, keys[task])], keys))
+        elif student.name not in failures and student.name not in missing:
+            missing.append(student.name)
+    for entries in copied.values():
+        student, keys = entries[0][0], entries[0][2]
+        results.save(student, [record for _, record, _ in entries], keys,
+                     None if student.folder in graded_folders else "graded like another student's same files")
+    return missing
 
 
 def run_pending(arguments, results, pending):
