@@ -10,11 +10,13 @@ import os
 import subprocess
 import sys
 
+import dask
 import numpy as np
 import pytest
 from distributed import Client, LocalCluster
 
 import billiard
+from billiard._sweep import LOCAL_CLUSTER_CONFIG
 
 GRID = {"eta": [0.1, 0.4], "n": [30, 60]}
 SEEDS = [0, 7, 11]
@@ -49,8 +51,13 @@ def unused_run(x, seed):
 
 @pytest.fixture(scope="module")
 def cluster():
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0",
-                      silence_logs=logging.ERROR) as local:
+    # The scheduler's setting of sweep's own local clusters (a crashing run kills no other run),
+    # read when the scheduler starts.
+    saturation = "distributed.scheduler.worker-saturation"
+    with dask.config.set({saturation: LOCAL_CLUSTER_CONFIG[saturation]}):
+        local = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0",
+                             silence_logs=logging.ERROR)
+    with local:
         yield local
 
 

@@ -33,6 +33,9 @@ NO_DASK = ("billiard.sweep needs Dask: install Debian's python3-dask and python3
 # 20 ms tick and the memory monitor only wake up on cores the runs need. A client passed to
 # sweep keeps its own settings.
 LOCAL_CLUSTER_CONFIG = {
+    # One run at a time on a worker of one thread, none waiting there: a run that kills its worker
+    # (a crash in compiled code) then takes no other run down with it.
+    "distributed.scheduler.worker-saturation": 1.0,
     "distributed.worker.profile.enabled": False,
     "distributed.admin.tick.interval": "1s",
     "distributed.worker.memory.monitor-interval": "1s",
