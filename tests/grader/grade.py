@@ -1076,7 +1076,7 @@ def parse_arguments(argv):
                         help="grade a whole class: DIR (or a .zip or .tar of it) is a folder with an entry per "
                              "student, a Gradescope export, an Autolab download or a folder of GitHub Classroom "
                              "repositories; each student is graded as the platforms grade, on Dask workers, and "
-                             "only what changed since the last run (see tests/grader/grade_class.py)")
+                             "only what changed since the last run (the instructors' guide: \"Grading a class\")")
     parser.add_argument("--workers", type=int,
                         help="with --class, local worker processes (default: the cores this process may use)")
     parser.add_argument("--client", metavar="ADDRESS",
