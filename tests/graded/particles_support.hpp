@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -72,11 +73,16 @@ inline fs::path work_folder() {
   return folder;
 }
 
+// Whether a run was stopped for taking too long: by this suite's clock, or by the CPU time limit
+// the grader gives each test, which the program inherits (SIGXCPU): an endless loop, not a crash.
+inline bool ran_out_of_time(const cli::Run& run) { return run.timed_out || run.signal == SIGXCPU; }
+
 // What went wrong with a run that did not finish normally, in words; empty if it did.
 inline std::string run_problem(const cli::Run& run) {
   if (run.timed_out) {
     return text("it did not finish within ", seconds_per_run(), " s and was stopped");
   }
+  if (run.signal == SIGXCPU) return "it did not finish within the computing time the test may take and was stopped";
   if (run.signal != 0) return text("it crashed (signal ", run.signal, ", ", strsignal(run.signal), ")");
   if (run.status != 0) {
     std::string err = run.err.substr(0, run.err.find('\n'));
@@ -111,7 +117,7 @@ inline void expect_same_output(const std::string& name, const std::string& input
   const std::string problem = run_problem(run);
   if (!problem.empty()) {
     FAIL() << explain(text("the program to finish with exit status 0 on ", command), problem,
-                      run.timed_out ? "does your loop end once the next collision comes after END_TIME (or never)? "
+                      ran_out_of_time(run) ? "does your loop end once the next collision comes after END_TIME (or never)? "
                                       "A time of INFINITY must stop it too"
                                     : "check array indices (the N(N+1)/2 array, particle numbers) and that the "
                                       "file is read as line 1 N, line 2 R, line 3 Lx Ly, then N lines x y u v");
