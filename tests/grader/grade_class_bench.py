@@ -8,7 +8,8 @@ Each round grades the class both ways from scratch (new results folders; the gra
 folders, one per worker and one for the serial run, built before the first round), alternating
 which goes first, and prints their wall times and ratio; then the time of a run again of the
 finished class, which grades nobody. By default the class is graded in test_class.py's three
-tasks; --all-tasks grades every task of course.txt (slower).
+tasks; --all-tasks grades every task of course.txt (slower), and --distinct makes every file of
+every student different, so that no file is graded once for several students.
 """
 
 import argparse
@@ -43,10 +44,17 @@ def main():
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--rounds", type=int, default=2)
     parser.add_argument("--all-tasks", action="store_true")
+    parser.add_argument("--distinct", action="store_true",
+                        help="every student hands in every task's file, each different from everyone else's (the "
+                             "reference solutions with a comment of their own), so nothing is graded once for many")
     arguments = parser.parse_args()
     tasks = TASKS if arguments.all_tasks else test_class.GRADED
     work = Path(tempfile.mkdtemp(prefix="billiard-class-bench-"))
     students = test_class.the_class()
+    if arguments.distinct:
+        students = {student: {TASK_FILE[task]: files.get(TASK_FILE[task], (REPO / "solutions" / TASK_FILE[task]).read_bytes())
+                              + f"\n/* {student} */\n".encode() for task in TASKS}
+                    for student, files in students.items()}
     test_class.write_layout("folders", students, work / "class")
     task_options = [word for task in tasks for word in ("--task", task)]
 
