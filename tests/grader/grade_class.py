@@ -46,6 +46,7 @@ most and their lead hints; hidden tests named).
 """
 
 import collections
+import contextlib
 import csv
 import fcntl
 import hashlib
@@ -213,20 +214,10 @@ def find_files(student, work):
     """The student's task files as the platforms find them (the stub where one is missing)."""
     staged = work / "staged" / student.folder
     shutil.rmtree(staged, ignore_errors=True)
-    with contextlib_quiet():
+    with contextlib.redirect_stdout(io.StringIO()):  # its notes are kept, not printed
         _, student.notes = package.find_task_files(student.places, staged)
     student.files = {task: (staged / TASK_FILE[task]).read_bytes() for task in TASKS}
     shutil.rmtree(staged, ignore_errors=True)
-
-
-class contextlib_quiet:
-    """Keeps what a called function prints out of the class's progress lines."""
-
-    def __enter__(self):
-        self.saved, sys.stdout = sys.stdout, io.StringIO()
-
-    def __exit__(self, *_):
-        sys.stdout = self.saved
 
 
 # --- What changed: a key per student and task -------------------------------------------------------

@@ -347,18 +347,26 @@ def autograder_root():
     return Path(os.environ.get("AUTOGRADER_ROOT", "/autograder"))
 
 
-def command_gradescope_setup(arguments):
-    """Builds the grader's build with the reference solutions, and checks they score full points."""
+def reference_scores_full(limits):
+    """A platform's set-up: grades the reference solutions with the platform's limits (building
+    the grader and measuring the reference on the way); says so and returns False unless they
+    score full points."""
     results = Path(tempfile.mkdtemp(prefix="billiard-setup-"))
     try:
         done = subprocess.run(["/usr/bin/python3", str(REPO / GRADE), "--submission", str(REPO / "solutions"),
                                "--results", str(results), "--dependencies", "reference", "--require-full", "--brief",
-                               *PLATFORM_GRADE_OPTIONS])
+                               *limits])
     finally:
         shutil.rmtree(results, ignore_errors=True)
     if done.returncode != 0:
         print("package: the reference solutions do not score full points here: the autograder is not usable",
               file=sys.stderr)
+    return done.returncode == 0
+
+
+def command_gradescope_setup(arguments):
+    """Builds the grader's build with the reference solutions, and checks they score full points."""
+    if not reference_scores_full(PLATFORM_GRADE_OPTIONS):
         return 1
     print(gradescope_bound())
     return 0
@@ -721,16 +729,7 @@ def command_autolab_setup(arguments):
     """The autograding image's set-up (autograding-image.sh): grades the reference solutions with
     the limits of a job (building the grader and measuring them on the way), then lets any user,
     the job's among them, use the grader's build."""
-    results = Path(tempfile.mkdtemp(prefix="billiard-setup-"))
-    try:
-        done = subprocess.run(["/usr/bin/python3", str(REPO / GRADE), "--submission", str(REPO / "solutions"),
-                               "--results", str(results), "--dependencies", "reference", "--require-full", "--brief",
-                               *AUTOLAB_PREBUILT_OPTIONS])
-    finally:
-        shutil.rmtree(results, ignore_errors=True)
-    if done.returncode != 0:
-        print("package: the reference solutions do not score full points here: the autograder is not usable",
-              file=sys.stderr)
+    if not reference_scores_full(AUTOLAB_PREBUILT_OPTIONS):
         return 1
     # Each job runs in a container of its own, as an unprivileged user, and writes into the build.
     grading = REPO / "build" / "grade"
