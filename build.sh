@@ -46,7 +46,8 @@ python_packages=(
   jupyter-nbconvert python3-nbclient python3-ipykernel  # running the notebooks headless
   python3-dask python3-distributed  # billiard.sweep: ensembles of runs on worker processes or a cluster
 )
-# The tests need these as well (test):
+# The grader's tests need these as well (test, with every test or the labels grader, packages,
+# platforms, contributing):
 test_packages=(
   ccache                         # the tests build the sources again elsewhere (the grader's build)
   chromium                       # the class report's test opens it in a real browser, headless
@@ -157,16 +158,19 @@ select_student_labels() {
   labels=("^($(IFS='|'; echo "${present[*]}"))\$")
 }
 
-# needs_python: whether the selected tests may include the Python module's or the notebooks'
-# (every test, or a label that names them or is a pattern).
-needs_python() {
+# selects LABELS_REGEX: whether the selected tests may include tests with those labels (every
+# test but a student's run, or a label that names one of them or is a pattern).
+selects() {
   local label
   if [ ${#labels[@]} -eq 0 ]; then ! student_run; return; fi
   for label in "${labels[@]}"; do
-    [[ "$label" =~ python|notebooks|[.*+?\[] ]] && return 0
+    [[ "$label" =~ $1|[.*+?\[] ]] && return 0
   done
   return 1
 }
+# needs_python: the Python module's and the notebooks' tests; needs_test_packages: the grader's.
+needs_python() { selects 'python|notebooks'; }
+needs_test_packages() { selects 'grader|packages|platforms|contributing'; }
 
 # excluded_labels_named: sets `include_excluded` to "-LE ^$" (exclude nothing) when a selected
 # label is one the test presets leave out (stress, platforms, contributing) and the options exclude nothing
@@ -211,12 +215,13 @@ case "$command" in
     ;;
   test)
     read_label_options "$@"
+    wanted=()
+    needs_test_packages && wanted+=("${test_packages[@]}")
     if needs_python; then
-      install_missing_packages "${python_packages[@]}" "${test_packages[@]}"
+      wanted+=("${python_packages[@]}")
       configure_options=(-DBILLIARD_PYTHON=ON)  # the module and notebooks are tested: never skip them
-    else
-      install_missing_packages
     fi
+    install_missing_packages "${wanted[@]}"
     configure
     student=()
     if student_run; then
