@@ -65,6 +65,17 @@ TEST(Circle, DiscDroppedFromTheCentreUnderGravity) {
   EXPECT_NEAR(t, std::sqrt(8 / 9.81), 1e-12);
 }
 
+TEST(Circle, DiscDroppedFromRestAtTheCentreReachesTheRimForAnyGAndReach) {
+  // The time bound of the quartic search is exact for this drop (|g| t^2 / 2 = reach), so
+  // rounding at the bound must not lose the crossing: t = sqrt(2 reach / |g|) for every pair.
+  for (const double g : {1.0, 2.0, 9.81, 0.37, 1e-3, 250.0}) {
+    for (const double reach : {9.0, 9.0 + 1e-10, 4.0, 1.0, 0.3, 123.456}) {
+      const double t = billiard::disc_in_circle_time(Vec2(0, 0), Vec2(0, 0), Vec2(0, -g), reach);
+      EXPECT_NEAR(t, std::sqrt(2 * reach / g), 1e-12 * std::sqrt(2 * reach / g)) << "g = " << g << ", reach = " << reach;
+    }
+  }
+}
+
 TEST(Circle, ThrownSidewaysUnderGravityLandsOnTheRim) {
   // Any disc under gravity reaches the rim; the answer must put it at distance reach.
   const Vec2 r(1, 2), v(3, 1), g(0.5, -2);

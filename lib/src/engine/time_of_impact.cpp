@@ -208,10 +208,12 @@ double disc_in_circle_time(const Vec2& r, const Vec2& v, const Vec2& g, double r
   const double second = v.squaredNorm() + r.dot(g);
   if (C >= 0 && (B > 0 || (B == 0 && second > 0))) return 0.0;
   // Under gravity every disc reaches the wall: by t_max, |r(t)| >= |g| t^2/2 - |v| t - |r| >=
-  // reach, so f(t_max) >= 0 and the crossing lies in [0, t_max].
+  // reach, so f(t_max) >= 0 and the crossing lies in [0, t_max]. The bound is exact for a disc
+  // dropped from rest at the centre, where rounding can leave f(t_max) a hair below zero: a
+  // margin of 1e-9 keeps the crossing inside.
   const QuadraticRoots bound = solve_quadratic(0.5 * g.norm(), -v.norm(), -(r.norm() + reach));
   const double poly[5] = {C, 2 * B, second, v.dot(g), 0.25 * g.squaredNorm()};
-  const double t = first_polynomial_crossing(poly, 4, bound.hi, true);
+  const double t = first_polynomial_crossing(poly, 4, bound.hi * (1 + 1e-9), true);
   // Found a hair outside and moving in, but too slowly to get inside before gravity takes it out
   // again: f never dips below zero, so there is no upward crossing to find. It is in contact:
   // collide now (the wall then puts it back on the circle, see collide_wall).
