@@ -1,6 +1,7 @@
 #include "stages.hpp"
 
 #include "billiard/argument_checks.hpp"
+#include "billiard/table_svg.hpp"
 #include "cli_text.hpp"
 
 #include <algorithm>
@@ -8,7 +9,6 @@
 #include <fstream>
 #include <random>
 #include <sstream>
-#include <tuple>
 
 namespace billiard_cli {
 
@@ -184,36 +184,32 @@ void StageMovie::write(const std::filesystem::path& file, const std::vector<Wall
   }
   // Playback: about 10 seconds for the whole run, at least 1 second.
   const double seconds = std::clamp(10.0 * double(times_.size()) / 200.0, 1.0, 60.0);
+  billiard::TableSvg picture(table_radius_);
+  picture.title(text(frames_.front().rows(), " circles, simulated time ", total));
+  picture.table();
+  for (const Wall& wall : walls) picture.wall(wall);
+  const std::string style = text("fill=\"", billiard::TableSvg::kCircleFill, "\" stroke=\"#212121\" stroke-width=\"",
+                                 0.05 * circle_radius_, "\"");
+  for (Eigen::Index i = 0; i < frames_.front().rows(); ++i) {
+    std::ostringstream animations;
+    animations.precision(8);
+    if (frames_.size() > 1) {
+      for (const auto& [attribute, column] : {std::pair{"cx", 0}, std::pair{"cy", 1}}) {
+        animations << "\n    <animate attributeName=\"" << attribute << "\" dur=\"" << seconds
+                   << "s\" repeatCount=\"indefinite\" calcMode=\"linear\" keyTimes=\"" << key_times.str() << "\" values=\"";
+        for (std::size_t k = 0; k < frames_.size(); ++k) {
+          const double value = frames_[k](i, column);
+          animations << (k ? ";" : "") << (column == 0 ? value : billiard::TableSvg::svg_y(value));
+        }
+        animations << "\"/>";
+      }
+      animations << "\n  ";
+    }
+    picture.circle(frames_.front().row(i), circle_radius_, style, animations.str());
+  }
   std::ofstream svg(file);
   if (!svg) throw std::runtime_error(text("cannot write ", printable(file.string())));
-  svg.precision(8);
-  const double margin = 0.05 * table_radius_, corner = -table_radius_ - margin, size = 2 * (table_radius_ + margin);
-  svg << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-      << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"600\" height=\"600\" viewBox=\"" << corner << ' ' << corner
-      << ' ' << size << ' ' << size << "\">\n"
-      << "  <title>" << frames_.front().rows() << " circles, simulated time " << total << "</title>\n"
-      << "  <circle cx=\"0\" cy=\"0\" r=\"" << table_radius_ << "\" fill=\"#2e7d32\" stroke=\"#4e342e\" stroke-width=\""
-      << 0.02 * table_radius_ << "\"/>\n";
-  for (const Wall& wall : walls) {
-    svg << "  <line x1=\"" << wall.a(0) << "\" y1=\"" << -wall.a(1) << "\" x2=\"" << wall.b(0) << "\" y2=\""
-        << -wall.b(1) << "\" stroke=\"#4e342e\" stroke-width=\"" << 0.02 * table_radius_
-        << "\" stroke-linecap=\"round\"/>\n";
-  }
-  for (Eigen::Index i = 0; i < frames_.front().rows(); ++i) {
-    svg << "  <circle cx=\"" << frames_.front()(i, 0) << "\" cy=\"" << -frames_.front()(i, 1) << "\" r=\""
-        << circle_radius_ << "\" fill=\"#fdd835\" stroke=\"#212121\" stroke-width=\"" << 0.05 * circle_radius_ << "\">";
-    if (frames_.size() > 1) {
-      for (const auto& [attribute, column, sign] : {std::tuple{"cx", 0, 1.0}, std::tuple{"cy", 1, -1.0}}) {
-        svg << "\n    <animate attributeName=\"" << attribute << "\" dur=\"" << seconds
-            << "s\" repeatCount=\"indefinite\" calcMode=\"linear\" keyTimes=\"" << key_times.str() << "\" values=\"";
-        for (std::size_t k = 0; k < frames_.size(); ++k) svg << (k ? ";" : "") << sign * frames_[k](i, column);
-        svg << "\"/>";
-      }
-      svg << "\n  ";
-    }
-    svg << "</circle>\n";
-  }
-  svg << "</svg>\n";
+  svg << picture.str();
   if (!svg.flush()) throw std::runtime_error(text("writing ", printable(file.string()), " failed"));
 }
 

@@ -34,6 +34,12 @@ struct SectorTable {
 // R / (root of the sum of squared speeds): a time scale that collisions do not change.
 inline double sector_time_scale(const SectorTable& t) { return t.R / std::sqrt(t.v.squaredNorm()); }
 
+// The student's propagate_sectors, recorded for the pictures of a failing case.
+inline Collision recorded_sectors_step(double R, double a, int n, Coordinates& c, Velocities& v, double cell) {
+  return recorded_step(table_board(R, a, {}, Vector::Zero(), cell), c, v,
+                       [&] { return propagate_sectors(R, a, n, c, v, cell); });
+}
+
 // Compares one step of the student's propagate_sectors from `t` with the oracle; returns false
 // after reporting the first difference. `hint` is shown when the wrong event is chosen.
 inline bool sectors_step_matches_oracle(const SectorTable& t, const std::string& where, const std::string& hint) {
@@ -44,7 +50,7 @@ inline bool sectors_step_matches_oracle(const SectorTable& t, const std::string&
   Velocities v = t.v;
   Collision got{};
   try {
-    got = propagate_sectors(t.R, t.a, t.n(), c, v, t.cell);
+    got = recorded_sectors_step(t.R, t.a, t.n(), c, v, t.cell);
   } catch (const std::invalid_argument& error) {
     ADD_FAILURE() << explain(text(where, ": the next collision of a valid state"),
                              text("propagate_sectors threw std::invalid_argument: \"", error.what(), "\""),

@@ -37,6 +37,9 @@
 
 namespace {
 
+// A failing test draws the step that went wrong (support/failure_pictures.hpp).
+const bool kPicturesJudged = billiard::testing::register_step_judge("propagate_gravity", billiard::testing::gravity_judgement);
+
 using billiard::Collision;
 using billiard::Coordinates;
 using billiard::kWall;
@@ -106,12 +109,22 @@ Table make_table(double R, double a, int n, double gx, double gy) {
   return t;
 }
 
+// A failing mean_energy test draws its circles, their velocities and g.
+void draw_if_failing(const Coordinates& c, const Velocities& v, const Vector& g) {
+  billiard::testing::set_case_source([c, v, g] {
+    billiard::testing::Board board = billiard::testing::table_board(0, 0, {}, g);
+    board.coordinates = c;
+    board.velocities = v;
+    return billiard::testing::state_case(board, "The circles mean_energy was given (velocities as arrows, g top left)");
+  });
+}
+
 std::string vec(const Vector& x) { return text("(", x(0), ", ", x(1), ")"); }
 
 // Calls the student's propagate_gravity. A negative time and a circle paired with itself are
 // wrong in every test; they are reported here first.
 Collision step(Table& t) {
-  const Collision got = billiard::propagate_gravity(t.R, t.a, t.n(), t.c, t.v, t.g);
+  const Collision got = billiard::testing::recorded_gravity_step(t.R, t.a, t.n(), t.c, t.v, t.g);
   if (got.time < 0) {
     ADD_FAILURE() << explain("the time until the next collision, which is never negative",
                              text("returned ", describe_collision(got)),
@@ -246,6 +259,7 @@ GRADED_TEST(Gravity, MeanEnergyPotentialGrowsAgainstGravity, 1, visible) {
     Velocities v(1, 2);
     c << k.x, k.y;
     v << k.vx, k.vy;
+    draw_if_failing(c, v, Vector(k.gx, k.gy));
     const double got = billiard::mean_energy(1, c, v, Vector(k.gx, k.gy));
     const double flipped = (k.vx * k.vx + k.vy * k.vy) / 2 + (k.gx * k.x + k.gy * k.y);
     const double no_half = k.vx * k.vx + k.vy * k.vy - (k.gx * k.x + k.gy * k.y);
@@ -268,6 +282,7 @@ GRADED_TEST(Gravity, MeanEnergyIsAMeanOverCircles, 1, visible) {
   Velocities v(2, 2);
   c << 1, 2, 0, -3;
   v << 3, 4, 0, 0;
+  draw_if_failing(c, v, Vector(0, -2));
   const double got = billiard::mean_energy(2, c, v, Vector(0, -2));
   EXPECT_NEAR(got, 5.25, kTol) << explain(
       "mean_energy = (16.5 + (-6)) / 2 = 5.25 for two circles", text("returned ", got),
@@ -738,6 +753,7 @@ GRADED_TEST(Gravity, MeanEnergyMatchesItsDefinitionForAnyGravity, 1, after_due_d
     std::string label;
     const Table t = billiard::testing::random_gravity_table(700 + static_cast<std::uint64_t>(k), k % 2 == 1, label);
     const double expected = static_cast<double>(billiard::testing::energy_per_circle(t));
+    draw_if_failing(t.c, t.v, t.g);
     const double got = billiard::mean_energy(t.n(), t.c, t.v, t.g);
     if (!(std::abs(got - expected) <= 1e-12 * billiard::testing::energy_scale(t))) {
       ADD_FAILURE() << explain(text("mean_energy = ", expected, " for ", label), text("returned ", got),

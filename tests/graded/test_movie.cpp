@@ -8,6 +8,7 @@
 // keyTimes) at the fractions T_k / T_total of its duration. The picture may use any scale, any
 // position of the table's centre and a flipped y axis; discs are recognised by where they
 // start, so their order in the file does not matter. Inputs come from the test fixtures.
+#include "support/failure_pictures.hpp"
 #include "support/fixtures.hpp"
 #include "support/graded.hpp"
 #include "support/student_messages.hpp"
@@ -121,14 +122,19 @@ std::optional<SvgDocument> read_movie(const System& s, const fs::path& file) {
   }
 }
 
-// Runs the movie of system s into a scratch file and reads it back.
+std::optional<FailingCase> movie_case(const System& s, const SvgDocument& picture);
+
+// Runs the movie of system s into a scratch file and reads it back; a failure from here on draws
+// the first moment at which the animation leaves the discs' paths.
 std::optional<SvgDocument> film(const System& s) {
   ScratchFolder folder;
   const fs::path file = folder / "movie.svg";
   Coordinates c = s.coordinates();
   Velocities v = s.velocities();
   if (!run_movie(s, c, v, file)) return std::nullopt;
-  return read_movie(s, file);
+  auto picture = read_movie(s, file);
+  if (picture) set_case_source([s, picture] { return movie_case(s, *picture); });
+  return picture;
 }
 
 // The movie as seen in table coordinates.
@@ -139,40 +145,47 @@ struct Film {
   std::vector<const SvgCircle*> discs;      // discs[i] shows row i
 };
 
+// How an animation that breaks the rules is read: as an error for the student, or as a browser
+// plays it (it ignores such an animation and shows the attribute), for the picture of a failure.
+enum class Reading { strict, as_a_browser_plays_it };
+
 // The value of `attribute` (cx or cy) shown at `fraction` of the animation: its <animate> if it
 // has one, else the static attribute.
-double shown_value(const SvgCircle& circle, const char* attribute, double fraction) {
+double shown_value(const SvgCircle& circle, const char* attribute, double fraction, Reading reading) {
   const auto animations = circle.animations_of(attribute);
   const double base = attribute[1] == 'x' ? circle.cx : circle.cy;
   if (animations.empty()) return base;
-  if (animations.size() > 1) {
-    throw SvgError(text("line ", circle.line, ": this <circle> has ", animations.size(), " <animate attributeName=\"",
-                        attribute, "\"> children; the test expects one that holds all the positions"));
+  try {
+    if (animations.size() > 1) {
+      throw SvgError(text("line ", circle.line, ": this <circle> has ", animations.size(), " <animate attributeName=\"",
+                          attribute, "\"> children; the test expects one that holds all the positions"));
+    }
+    return sample_animation(*animations.front(), fraction, base);
+  } catch (const SvgError&) {
+    if (reading == Reading::strict) throw;
+    return base;
   }
-  return sample_animation(*animations.front(), fraction, base);
 }
 
-// Position of `disc` at `fraction` in table coordinates; throws SvgError.
-std::array<double, 2> shown_position(const Film& film, const SvgCircle& disc, double fraction) {
-  const auto p = disc.map(shown_value(disc, "cx", fraction), shown_value(disc, "cy", fraction));
+// Position of `disc` at `fraction` in table coordinates; throws SvgError when reading strictly.
+std::array<double, 2> shown_position(const Film& film, const SvgCircle& disc, double fraction,
+                                     Reading reading = Reading::strict) {
+  const auto p = disc.map(shown_value(disc, "cx", fraction, reading), shown_value(disc, "cy", fraction, reading));
   return {(p[0] - film.table->x) / film.k, film.sign * (p[1] - film.table->y) / film.k};
 }
 
 // Finds the table (largest circle), the scale, the direction of y and which disc shows which
-// row (by the positions at the start of the animation). Reports and returns nullopt on failure.
-std::optional<Film> understand(const SvgDocument& picture, const System& s, const Coordinates& start) {
+// row (by the positions at the start of the animation); `worst` receives the largest distance of
+// a row from its disc there. Nullopt when the file does not hold n + 1 circles; throws SvgError
+// when reading strictly an animation a browser cannot play.
+std::optional<Film> match_discs(const SvgDocument& picture, const System& s, const Coordinates& start, Reading reading,
+                                double& worst) {
   Film film;
   const auto circles = picture.rendered_circles();
   for (const SvgCircle* circle : circles) {
     if (!film.table || circle->radius > film.table->radius) film.table = circle;
   }
   if (static_cast<int>(circles.size()) != s.n + 1 || !(film.table->radius > 0) || !std::isfinite(film.table->radius)) {
-    ADD_FAILURE() << explain(text(call(s), " to draw ", s.n + 1, " <circle> elements: the table (the largest, with "
-                                                                  "radius table_radius times any scale) and one per disc"),
-                             text("the file has ", circles.size(), " <circle> elements",
-                                  film.table ? text(", the largest with radius ", film.table->radius) : std::string()),
-                             "write one <circle> for the table and one for each disc, with <animate> children for "
-                             "the discs' cx and cy");
     return std::nullopt;
   }
   film.k = film.table->radius / s.R;
@@ -182,47 +195,134 @@ std::optional<Film> understand(const SvgDocument& picture, const System& s, cons
   }
   // For each direction of y, match every row to the nearest disc at the start; keep the
   // direction whose worst match is best.
-  double best_error = kInf;
-  try {
-    for (const double sign : {+1.0, -1.0}) {
-      Film trial = film;
-      trial.sign = sign;
-      trial.discs.assign(static_cast<std::size_t>(s.n), nullptr);
-      double worst = 0;
-      for (Eigen::Index i = 0; i < start.rows(); ++i) {
-        double nearest = kInf;
-        for (const SvgCircle* disc : discs) {
-          const auto p = shown_position(trial, *disc, 0.0);
-          const double error = std::hypot(p[0] - start(i, 0), p[1] - start(i, 1));
-          if (error < nearest) {
-            nearest = error;
-            trial.discs[static_cast<std::size_t>(i)] = disc;
-          }
+  worst = kInf;
+  for (const double sign : {+1.0, -1.0}) {
+    Film trial = film;
+    trial.sign = sign;
+    trial.discs.assign(static_cast<std::size_t>(s.n), nullptr);
+    double trial_worst = 0;
+    for (Eigen::Index i = 0; i < start.rows(); ++i) {
+      double nearest = kInf;
+      for (const SvgCircle* disc : discs) {
+        const auto p = shown_position(trial, *disc, 0.0, reading);
+        const double error = std::hypot(p[0] - start(i, 0), p[1] - start(i, 1));
+        if (error < nearest) {
+          nearest = error;
+          trial.discs[static_cast<std::size_t>(i)] = disc;
         }
-        worst = std::max(worst, nearest);
       }
-      if (worst < best_error) {
-        best_error = worst;
-        film.sign = trial.sign;
-        film.discs = trial.discs;
-      }
+      trial_worst = std::max(trial_worst, nearest);
     }
+    if (trial_worst < worst) {
+      worst = trial_worst;
+      film.sign = trial.sign;
+      film.discs = trial.discs;
+    }
+  }
+  return film;
+}
+
+// match_discs, reporting what keeps the file from being understood.
+std::optional<Film> understand(const SvgDocument& picture, const System& s, const Coordinates& start) {
+  double best_error = kInf;
+  std::optional<Film> film;
+  try {
+    film = match_discs(picture, s, start, Reading::strict, best_error);
   } catch (const SvgError& error) {
     ADD_FAILURE() << explain(text(call(s), " to write <animate> elements a browser can play"), error.what(),
                              animation_hint(error.what()));
     return std::nullopt;
   }
+  if (!film) {
+    const auto circles = picture.rendered_circles();
+    const SvgCircle* table = nullptr;
+    for (const SvgCircle* circle : circles) {
+      if (!table || circle->radius > table->radius) table = circle;
+    }
+    ADD_FAILURE() << explain(text(call(s), " to draw ", s.n + 1, " <circle> elements: the table (the largest, with "
+                                                                  "radius table_radius times any scale) and one per disc"),
+                             text("the file has ", circles.size(), " <circle> elements",
+                                  table ? text(", the largest with radius ", table->radius) : std::string()),
+                             "write one <circle> for the table and one for each disc, with <animate> children for "
+                             "the discs' cx and cy");
+    return std::nullopt;
+  }
   if (!(best_error <= kPictureTolerance * s.R)) {
     ADD_FAILURE() << explain(
         text(call(s), ": at the start of the animation (fraction 0 of dur) every disc is at its row of "
-                      "coordinates, in the table's frame (centre (", film.table->x, ", ", film.table->y, "), ",
-             film.k, " per unit of length)"),
+                      "coordinates, in the table's frame (centre (", film->table->x, ", ", film->table->y, "), ",
+             film->k, " per unit of length)"),
         text("some row has no disc within ", kPictureTolerance * s.R, ": the closest match is ", best_error, " away"),
         "the first value of each cx/cy animation must be the starting position, scaled and shifted like the table: "
         "cx = centre_x + k * x, cy = centre_y + k * y (or centre_y - k * y)");
     return std::nullopt;
   }
   return film;
+}
+
+// The picture of a failure: `expected` (the discs where they are, with their velocities) and
+// where something else puts the discs that are elsewhere (`shown`), at one moment.
+FailingCase positions_case(const System& s, const Coordinates& expected, const Velocities& velocities,
+                           const Coordinates& shown, std::string heading, const std::string& elsewhere) {
+  FailingCase failing;
+  failing.heading = std::move(heading);
+  failing.board = table_board(s.R, s.a);
+  failing.board.coordinates = expected;
+  failing.board.velocities = velocities;
+  failing.expected_outcome.coordinates = expected;
+  failing.expected_outcome.velocities = velocities;
+  failing.your_outcome.coordinates = shown;
+  failing.your_outcome.velocities = velocities;
+  std::vector<int> off;
+  for (int i = 0; i < s.n; ++i) {
+    if (!(std::hypot(shown(i, 0) - expected(i, 0), shown(i, 1) - expected(i, 1)) <= kPictureTolerance * s.R)) {
+      off.push_back(i);
+      failing.expected.ghosts.push_back({i, expected.row(i), velocities.row(i), false});
+      if (std::isfinite(shown(i, 0)) && std::isfinite(shown(i, 1))) failing.yours.ghosts.push_back({i, shown.row(i), Vector::Zero(), false});
+    }
+  }
+  std::string listed;
+  for (std::size_t k = 0; k < off.size() && k < 8; ++k) listed += text(k ? ", " : "", off[k]);
+  if (off.size() > 8) listed += text(" and ", off.size() - 8, " more");
+  failing.key = "Numbered circles: where the discs are at that moment, arrows their velocities. Dotted: where "
+                "the movie shows the discs that are elsewhere, each joined to its place by a line.";
+  failing.expected.label = text("the discs where propagate puts them (numbered)");
+  failing.yours.label = off.empty() ? elsewhere + ": every disc where it should be"
+                                    : text(elsewhere, ": disc", off.size() > 1 ? "s " : " ", listed, " elsewhere (dotted)");
+  return failing;
+}
+
+// The picture of a failing test of a movie file: the first moment (a collision, or half way
+// between two) at which the animation, as a browser plays it, shows a disc away from its place.
+std::optional<FailingCase> movie_case(const System& s, const SvgDocument& picture) {
+  const Truth t = truth(s);
+  double worst = kInf;
+  const auto film = match_discs(picture, s, t.positions.front(), Reading::as_a_browser_plays_it, worst);
+  if (!film) return std::nullopt;
+  for (std::size_t k = 0; k < t.times.size(); ++k) {
+    for (const bool half_way : {false, true}) {
+      if (half_way && k + 1 == t.times.size()) break;
+      const double dt = half_way ? (t.times[k + 1] - t.times[k]) / 2 : 0.0;
+      const double time = t.times[k] + dt;
+      const Coordinates expected = t.positions[k] + dt * t.velocities[k];
+      Coordinates shown(s.n, 2);
+      for (int i = 0; i < s.n; ++i) {
+        const auto p = shown_position(*film, *film->discs[static_cast<std::size_t>(i)],
+                                      t.total() > 0 ? time / t.total() : 0.0, Reading::as_a_browser_plays_it);
+        shown.row(i) << p[0], p[1];
+      }
+      if ((shown - expected).rowwise().norm().maxCoeff() <= kPictureTolerance * s.R) continue;
+      const std::string moment = half_way ? text("half way between collisions ", k, " and ", k + 1)
+                                 : k == 0 ? std::string("at the start")
+                                          : text("at collision ", k);
+      return positions_case(s, expected, t.velocities[k], shown,
+                            text("Time ", time, " of ", t.total(), " (", moment, ", fraction ",
+                                 t.total() > 0 ? time / t.total() : 0.0,
+                                 " of the animation): the first moment the animation leaves the discs' paths"),
+                            "the animation, as a browser plays it");
+    }
+  }
+  return std::nullopt;
 }
 
 // Checks the positions shown at `fractions` against `expected` (one Coordinates per fraction);
@@ -276,6 +376,11 @@ GRADED_TEST(Movie, LeavesTheStateAfterTheCollisions, 3, after_due_date) {
     const double velocity_error = (v - t.velocities.back()).cwiseAbs().maxCoeff();
     const double speed = t.velocities.back().cwiseAbs().maxCoeff();
     if (position_error > kStateTolerance * s.R || velocity_error > kStateTolerance * speed) {
+      set_case_source([&] {
+        return positions_case(s, t.positions.back(), t.velocities.back(), c,
+                              text("After the call: where ", s.collisions, " calls of propagate leave the discs"),
+                              "where your movie left the coordinates");
+      });
       ADD_FAILURE() << explain(
           text(call(s), " to leave coordinates and velocities as ", s.collisions,
                " calls of propagate leave them (e.g. circle 0 at ", row(t.positions.back(), 0), " with velocity ",

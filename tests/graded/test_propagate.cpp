@@ -30,6 +30,9 @@ using billiard::testing::explain;
 using billiard::testing::row;
 using billiard::testing::text;
 
+// A failing test draws the step that went wrong, judged by the oracle (support/failure_pictures.hpp).
+const bool kPicturesJudged = billiard::testing::register_step_judge("propagate", billiard::testing::oracle_judgement);
+
 // Rounding tolerance for the hand-made cases (numbers of order 10, double precision ~1e-15).
 constexpr double kTol = 1e-12;
 
@@ -46,7 +49,8 @@ struct Table {
 // in the past) and a circle paired with itself; they are reported here, before a test's own
 // checks report what followed from them, so that the first message names the mistake.
 Collision step(Table& t) {
-  const Collision got = billiard::propagate(t.R, t.a, t.n(), t.c, t.v);
+  const Collision got = billiard::testing::recorded_step(billiard::testing::table_board(t.R, t.a), t.c, t.v,
+                                                         [&] { return billiard::propagate(t.R, t.a, t.n(), t.c, t.v); });
   // The hint follows the event returned: the wall's root and a pair's root go wrong differently.
   if (got.time < 0 && got.other == kWall) {
     ADD_FAILURE() << explain("the time until the next collision, which is never negative", text("returned ", describe_collision(got)),

@@ -45,6 +45,9 @@
 
 namespace {
 
+// A failing test draws the step that went wrong (support/failure_pictures.hpp).
+const bool kPicturesJudged = billiard::testing::register_step_judge("propagate_sectors", billiard::testing::oracle_judgement);
+
 using billiard::Collision;
 using billiard::Coordinates;
 using billiard::kWall;
@@ -84,7 +87,7 @@ bool expect_event(SectorTable& t, int circle, int other, double time, const std:
       text(situation, ": ", billiard::testing::describe_event(circle, other), " after time ", time);
   Collision got{};
   try {
-    got = billiard::propagate_sectors(t.R, t.a, t.n(), t.c, t.v, t.cell);
+    got = billiard::testing::recorded_sectors_step(t.R, t.a, t.n(), t.c, t.v, t.cell);
   } catch (const std::invalid_argument& error) {
     ADD_FAILURE() << explain(expected, text("it threw std::invalid_argument: \"", error.what(), "\""), hint);
     return false;
@@ -391,7 +394,7 @@ GRADED_TEST(Sectors, AgreesWithTheLibraryOnLargeTables, 2, after_due_date) {
                                   " after time ", e.time, ", as the library finds it");
     Collision got{};
     try {
-      got = billiard::propagate_sectors(R, a, n, mine_c, mine_v, cell);
+      got = billiard::testing::recorded_sectors_step(R, a, n, mine_c, mine_v, cell);
     } catch (const std::invalid_argument& error) {
       ADD_FAILURE() << explain(what, text("it threw std::invalid_argument: \"", error.what(), "\""), kHintSameAsPropagate);
       return;
@@ -458,7 +461,7 @@ long double mean_square(const Velocities& v) {
 // One step of the student's own trajectory; a refused valid state is reported.
 bool own_step(SectorTable& t, Collision& got, int e) {
   try {
-    got = billiard::propagate_sectors(t.R, t.a, t.n(), t.c, t.v, t.cell);
+    got = billiard::testing::recorded_sectors_step(t.R, t.a, t.n(), t.c, t.v, t.cell);
     return true;
   } catch (const std::invalid_argument& error) {
     ADD_FAILURE() << explain(text("long run, collision ", e, ": the next collision of a valid state"),
@@ -558,7 +561,7 @@ long long count_pair_tests(int n, int tables, std::uint64_t seed) {
     SectorTable t = dilute_table(n, seed + static_cast<std::uint64_t>(k));
     const long long before = billiard::pair_time_calls();
     try {
-      billiard::propagate_sectors(t.R, t.a, t.n(), t.c, t.v, t.cell);
+      billiard::testing::recorded_sectors_step(t.R, t.a, t.n(), t.c, t.v, t.cell);
     } catch (const std::invalid_argument& error) {
       ADD_FAILURE() << explain(text("propagate_sectors to step a valid table of ", n, " circles"),
                                text("it threw std::invalid_argument: \"", error.what(), "\""), kHintSameAsPropagate);

@@ -37,6 +37,9 @@
 
 namespace {
 
+// A failing test draws the step that went wrong (support/failure_pictures.hpp).
+const bool kPicturesJudged = billiard::testing::register_step_judge("propagate_walls", billiard::testing::walls_judgement);
+
 using billiard::Collision;
 using billiard::Coordinates;
 using billiard::kWall;
@@ -107,7 +110,7 @@ std::string describe(const Collision& c, const WallTable& t) {
 // Calls the student's propagate_walls. Results wrong in every test (a negative or NaN time, a
 // circle with itself) are reported first, so that the first message names the mistake.
 Collision step(WallTable& t) {
-  const Collision got = billiard::propagate_walls(t.R, t.a, t.n(), t.c, t.v, t.walls);
+  const Collision got = billiard::testing::recorded_walls_step(t.R, t.a, t.n(), t.c, t.v, t.walls);
   if (std::isnan(got.time)) {
     ADD_FAILURE() << explain("a collision time that is a number", text("returned ", describe(got, t)),
                              "a NaN time comes from 0 / 0: a circle moving parallel to a wall (v.n = 0), a wall of "

@@ -6,6 +6,7 @@
 
 #include "billiard/engine/simulation.hpp"
 #include "billiard/extensions.hpp"
+#include "support/failure_pictures.hpp"
 #include "support/fixtures.hpp"
 #include "support/student_messages.hpp"
 
@@ -16,6 +17,7 @@
 #include <cstdint>
 #include <functional>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -206,6 +208,62 @@ inline std::string describe_library_event(const Simulation& sim, const EventReco
   return text("circle ", e.disc, " with a wall");
 }
 
+// The student's propagate_walls, recorded for the pictures of a failing case.
+inline Collision recorded_walls_step(double R, double a, int n, Coordinates& c, Velocities& v,
+                                     const std::vector<Wall>& walls) {
+  return recorded_step(table_board(R, a, walls), c, v, [&] { return propagate_walls(R, a, n, c, v, walls); });
+}
+
+// Collision::other for a logged library event: kWall, the other circle, or wall_id(k) of the
+// first wall owning the segment or end point.
+inline int library_other(const Simulation& sim, const EventRecord& e, const std::vector<Wall>& walls) {
+  if (e.kind == EventKind::DiscDisc) return e.other;
+  for (std::size_t k = 0; k < walls.size(); ++k) {
+    const Collision candidate{0, e.disc, wall_id(static_cast<int>(k))};
+    if (library_event_is(sim, e, walls, candidate)) return candidate.other;
+  }
+  return kWall;
+}
+
+// The judge of the pictures of a failing case (failure_pictures.hpp): the library's step from
+// the board, with matches_library's tolerances and ties.
+inline Judgement walls_judgement(const Board& board, const Outcome& got) {
+  WallTable t;
+  t.R = board.table_radius;
+  t.a = board.circle_radius;
+  t.c = board.coordinates;
+  t.v = board.velocities;
+  t.walls = board.walls;
+  const double speed = std::sqrt(t.v.squaredNorm());
+  if (!(speed > 0)) throw std::runtime_error("every circle at rest");
+  const double scale = t.R / speed;
+  Simulation sim = library_simulation(t);
+  const double start = sim.current_state().time;
+  sim.advance(1);
+  if (sim.event_log().empty()) throw std::runtime_error("the library found no event");
+  const EventRecord& event = sim.event_log().back();
+  const State after = sim.current_state();
+  Judgement judgement;
+  judgement.expected.event = Collision{event.time - start, event.disc, library_other(sim, event, t.walls)};
+  judgement.expected.coordinates = after.positions;
+  judgement.expected.velocities = after.velocities;
+  const auto within = [](const Eigen::Matrix<double, Eigen::Dynamic, 2>& mine,
+                         const Eigen::Matrix<double, Eigen::Dynamic, 2>& expected, double tolerance) {
+    return mine.rows() == expected.rows() && (mine - expected).rowwise().norm().maxCoeff() <= tolerance;
+  };
+  const double expected_time = judgement.expected.event.time;
+  if (!got.error.empty()) {
+    judgement.agrees = false;
+  } else if (!library_event_is(sim, event, t.walls, got.event)) {
+    judgement.agrees = std::abs(got.event.time - expected_time) <= 1e-9 * scale;  // a tie: either order is right
+  } else {
+    judgement.agrees = std::abs(got.event.time - expected_time) <= 1e-9 * (scale + expected_time) &&
+                       within(got.coordinates, after.positions, 1e-9 * t.R) &&
+                       within(got.velocities, after.velocities, 1e-9 * speed);
+  }
+  return judgement;
+}
+
 // Steps the student's propagate_walls against the library from the library's own states: at
 // each step both start from the same state, the library's trajectory goes on. Events within
 // 1e-9 of the time scale of each other are a tie (rounding decides their order), and then
@@ -230,7 +288,7 @@ inline bool matches_library(WallTable t, int steps,
     Collision got{};
     const std::string where = text(t.label, ", step ", e);
     try {
-      got = propagate_walls(t.R, t.a, t.n(), c, v, t.walls);
+      got = recorded_walls_step(t.R, t.a, t.n(), c, v, t.walls);
     } catch (const std::invalid_argument& error) {
       ADD_FAILURE() << explain(text("propagate_walls to accept a valid state (", where, ")"),
                                text("it threw std::invalid_argument: \"", error.what(), "\""),

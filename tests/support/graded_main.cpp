@@ -25,6 +25,7 @@
 //                           failed" to FOLDER/result.txt as --graded-result does, and report on
 //                           file descriptor FD "started PID" and then "ended WAIT_STATUS
 //                           CPU_MICROSECONDS" for each. Ends at the end of the input.
+#include "support/failure_pictures.hpp"
 #include "support/graded.hpp"
 
 #include <gtest/gtest.h>
@@ -233,6 +234,7 @@ int serve(int reports) {
 int main(int argc, char** argv) {
   const std::string token = take_grader_token();
   ::testing::InitGoogleTest(&argc, argv);
+  billiard::testing::install_picture_listener();
   bool expect_not_implemented = false, list = false;
   std::string result_path;
   int server_reports = -1;

@@ -150,6 +150,36 @@ std::string describe_event(int circle, int other) {
   return "circles " + std::to_string(circle) + " and " + std::to_string(other);
 }
 
+Judgement oracle_judgement(const Board& board, const Outcome& got) {
+  Judgement judgement;
+  const double speed = std::sqrt(board.velocities.squaredNorm());
+  const OracleStep step = speed > 0 ? oracle_step(board.table_radius, board.circle_radius, board.coordinates,
+                                                  board.velocities, 1e-9 * board.table_radius / speed)
+                                    : OracleStep{std::numeric_limits<double>::infinity(), {}};
+  if (step.events.empty()) {  // nothing can happen: the step function must refuse the state
+    judgement.expected.none = true;
+    judgement.agrees = !got.error.empty();
+    return judgement;
+  }
+  const double scale = board.table_radius / speed;
+  const OracleEvent* match = &step.events.front();
+  for (const auto& e : step.events) {
+    if (same_event(e, got.event)) match = &e;
+  }
+  judgement.expected.event = Collision{match->time, match->circle, match->other};
+  judgement.expected.coordinates = match->coordinates;
+  judgement.expected.velocities = match->velocities;
+  const auto within = [](const Eigen::Matrix<double, Eigen::Dynamic, 2>& mine,
+                         const Eigen::Matrix<double, Eigen::Dynamic, 2>& expected, double tolerance) {
+    return mine.rows() == expected.rows() && (mine - expected).rowwise().norm().maxCoeff() <= tolerance;
+  };
+  judgement.agrees = got.error.empty() && same_event(*match, got.event) &&
+                     std::abs(got.event.time - match->time) <= 1e-9 * (match->time + scale) &&
+                     within(got.coordinates, match->coordinates, 1e-9 * board.table_radius) &&
+                     within(got.velocities, match->velocities, 1e-9 * speed);
+  return judgement;
+}
+
 double max_speed(const Velocities& velocities) {
   double fastest = 0;
   for (Eigen::Index i = 0; i < velocities.rows(); ++i) fastest = std::max(fastest, velocities.row(i).norm());

@@ -13,6 +13,7 @@
 #pragma once
 
 #include "billiard/course.hpp"
+#include "support/failure_pictures.hpp"
 
 #include <string>
 #include <vector>
@@ -47,6 +48,12 @@ bool same_event(const OracleEvent& event, const Collision& collision);
 
 // "circle 3 with the wall" or "circles 2 and 7".
 std::string describe_event(int circle, int other);
+
+// The judge of a step on a plain table (propagate, propagate_sectors) for the pictures of a
+// failing case: the oracle's step from the board, with the suites' tolerances (1e-9 of the time
+// scale R / sqrt(sum |v|^2), of R for positions, of that root speed for velocities; events within
+// 1e-9 of the time scale of the earliest are ties, any of them right).
+Judgement oracle_judgement(const Board& board, const Outcome& got);
 
 // Largest speed |v_i| (0 if there are no circles or all are at rest).
 double max_speed(const Velocities& velocities);

@@ -1,9 +1,13 @@
 #include "support/student_messages.hpp"
 
+#include "support/failure_pictures.hpp"
+
 namespace billiard::testing {
 
 std::string explain(std::string_view expected, std::string_view got, std::string_view hint) {
-  return text("\nExpected: ", expected, "\nYour code: ", got, "\nHint: ", hint, "\n");
+  const std::string picture = picture_of_failure(expected, got);
+  return text("\nExpected: ", expected, "\nYour code: ", got, "\nHint: ", hint, "\n",
+              picture.empty() ? std::string() : text("Picture: ", picture, "\n"));
 }
 
 std::string describe_collision(const Collision& c) {

