@@ -265,6 +265,7 @@ std::optional<Film> understand(const SvgDocument& picture, const System& s, cons
 FailingCase positions_case(const System& s, const Coordinates& expected, const Velocities& velocities,
                            const Coordinates& shown, std::string heading, const std::string& elsewhere) {
   FailingCase failing;
+  failing.kind = "positions";
   failing.heading = std::move(heading);
   failing.board = table_board(s.R, s.a);
   failing.board.coordinates = expected;

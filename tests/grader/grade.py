@@ -20,15 +20,20 @@ suite and running its tests, so a submission, however it misbehaves, is graded w
 grader's own build plus the sum of the budgets, and only the misbehaving task loses points.
 
 Prints a table (task, points / maximum, and each failing test's message and hint), and writes
-results.json (Gradescope's format) and junit.xml into --results. Exit status 0 when grading
-completed (whatever the score), 2 for bad arguments.
+results.json (Gradescope's format), junit.xml and report.html into --results. A failing visible
+test of a task where a state evolves draws its failing case (tests/support/failure_pictures.hpp):
+the picture goes to --results/pictures/, its message names it, report.html shows it under the
+message and results.json embeds it. Exit status 0 when grading completed (whatever the score), 2
+for bad arguments.
 """
 
 import argparse
+import base64
 import concurrent.futures
 import ctypes
 import functools
 import hashlib
+import html
 import json
 import math
 import os
@@ -72,6 +77,12 @@ SUBMISSION_BUILD_MEMORY = 2 << 30
 # (billiard_add_program in CMakeLists.txt, grader_compile_c in tests/grader/CMakeLists.txt).
 PROGRAM_LIBRARIES = ["-lm"]
 COMPILED_KEPT = 400  # compiled task files remembered in a build folder (the oldest go first)
+# Pictures of failing cases: the folder a test draws into (in its own folder, as the suites'
+# BILLIARD_PICTURES) and the one they are kept in, in --results; the largest kept (a picture of
+# fifty circles has 60 kB); the line of a message that names one.
+PICTURES = "pictures"
+PICTURE_CAP = 2 << 20
+PICTURE_LINE = re.compile(r"^Picture: .*(\n|$)", re.MULTILINE)
 
 
 @dataclass
@@ -86,6 +97,7 @@ class TestResult:
     cpu_seconds: float = 0.0  # what its process (and the processes it waited for) computed
     unfinished: bool = False  # stopped at its time limit
     not_run: bool = False     # its task's time budget was used up before it could start
+    picture: str = ""         # the picture of its failing case, relative to the results folder
 
     @property
     def score(self):
@@ -781,6 +793,8 @@ def run_test(test, executable, servers, sandbox, scratch, processes, cpu_limit, 
     token = secrets.token_hex(16)
     # The suite's own limit on a program task's program then stays out of the way.
     variables = [f"BILLIARD_TEST_TIME_LIMIT={wall_limit:g}"] if test.task in PROGRAM_TASKS else []
+    if test.visibility != "hidden":  # a hidden test draws nothing, so nothing of it can show
+        variables.append(f"BILLIARD_PICTURES={PICTURES}")
     started = time.monotonic()
     server = servers.get(test.task, executable)
     try:
@@ -812,8 +826,40 @@ def run_test(test, executable, servers, sandbox, scratch, processes, cpu_limit, 
     elif not test.passed and not reported and status == 0:
         messages = ("The test program ended before the test was over (did the code call exit()?), "
                     "so the test cannot count as passed.\n" + messages)
+    test.picture = keep_picture(test, work, scratch)
     test.feedback = cap(messages.strip(), FEEDBACK_CAP)
     shutil.rmtree(work, ignore_errors=True)
+
+
+def keep_picture(test, work, scratch):
+    """The picture a failing visible test drew in its folder, copied into the grading's pictures
+    folder before its own is removed: its name there ("pictures/Suite.Test.svg"), or ""."""
+    drawn = work / PICTURES / f"{test.name}.svg"
+    if test.passed or test.visibility == "hidden":
+        return ""
+    try:
+        if drawn.is_symlink() or not drawn.is_file() or drawn.stat().st_size > PICTURE_CAP:
+            return ""
+        (scratch / PICTURES).mkdir(exist_ok=True)
+        shutil.copyfile(drawn, scratch / PICTURES / drawn.name)
+    except OSError:
+        return ""
+    return f"{PICTURES}/{drawn.name}"
+
+
+def place_pictures(results, scratch, folder):
+    """Moves the grading's pictures into folder/pictures (replacing the last grading's) and makes
+    each message name its picture there; a message whose picture was not kept loses the line."""
+    kept = folder / PICTURES
+    shutil.rmtree(kept, ignore_errors=True)
+    if (scratch / PICTURES).is_dir():
+        shutil.copytree(scratch / PICTURES, kept)
+    for result in results:
+        for test in result.tests:
+            if test.picture and not (folder / test.picture).is_file():
+                test.picture = ""
+            line = f"Picture: {folder / test.picture}\n" if test.picture else ""
+            test.feedback = PICTURE_LINE.sub(lambda _: line, test.feedback).strip()
 
 
 CLOCK_TICKS = os.sysconf("SC_CLK_TCK")
@@ -875,20 +921,28 @@ class ResultCache:
         name = f"{self.checksums[executable]}-{test.name}-{self.limits[test.task].test(test.name):g}"
         return self.folder / (hashlib.sha256(name.encode()).hexdigest() + ".json")
 
-    def recall(self, test, executable):
+    def recall(self, test, executable, scratch):
         entry = self.key(test, executable)
         if not entry.is_file():
             return False
         saved = json.loads(entry.read_text())
         test.passed, test.feedback, test.seconds = saved["passed"], saved["feedback"], saved["seconds"]
         test.cpu_seconds = saved["cpu_seconds"]
+        test.picture = saved.get("picture", "")
+        if test.picture:
+            (scratch / PICTURES).mkdir(exist_ok=True)
+            shutil.copyfile(entry.with_suffix(".svg"), scratch / test.picture)
         return True
 
-    def remember(self, test, executable):
+    def remember(self, test, executable, scratch):
         if test.unfinished or test.not_run:
             return  # depends on the time left, not only on the executable
-        write_atomically(self.key(test, executable), json.dumps(
-            {"passed": test.passed, "feedback": test.feedback, "seconds": test.seconds, "cpu_seconds": test.cpu_seconds}))
+        entry = self.key(test, executable)
+        if test.picture:
+            shutil.copyfile(scratch / test.picture, entry.with_suffix(".svg"))
+        write_atomically(entry, json.dumps(
+            {"passed": test.passed, "feedback": test.feedback, "seconds": test.seconds, "cpu_seconds": test.cpu_seconds,
+             "picture": test.picture}))
 
 
 # --- Reports -----------------------------------------------------------------------------------
@@ -991,8 +1045,26 @@ def indent(text, spaces):
     return "\n".join(" " * spaces + line if line else "" for line in text.splitlines())
 
 
-def gradescope_results(results, elapsed):
-    """Gradescope's results.json: the score and one entry per test."""
+def picture_html(test, folder):
+    """A visible test's picture as an <img> with the SVG inside it (a data: address, so the page
+    needs no other file and the picture cannot run anything), or "" if it has none."""
+    if not test.picture or test.visibility == "hidden" or folder is None:
+        return ""
+    try:
+        data = base64.b64encode((folder / test.picture).read_bytes()).decode()
+    except OSError:
+        return ""
+    return (f'<img alt="the failing case of {html.escape(test.name)}, drawn" style="max-width: 100%" '
+            f'src="data:image/svg+xml;base64,{data}">')
+
+
+def gradescope_results(results, elapsed, folder=None):
+    """Gradescope's results.json: the score and one entry per test. A visible test with a picture
+    (in `folder`) is written as HTML, the message in <pre> and the picture under it: Gradescope's
+    output_format "html" (its autograder specification, "Output String Formatting") renders
+    sanitised HTML, and images embedded as base64 data are what its documentation's discussions
+    show working; elsewhere the text stays text, without the picture's line (a path on the
+    grading machine)."""
     tests = []
     for result in results:
         if result.problem:
@@ -1001,12 +1073,17 @@ def gradescope_results(results, elapsed):
             continue
         for test in result.tests:
             hidden = test.visibility == "hidden"
-            tests.append({
+            entry = {
                 "name": f"{result.task}: " + ("hidden test" if hidden else test.name),
                 "score": test.score, "max_score": test.points, "status": "passed" if test.passed else "failed",
                 "visibility": test.visibility,
-                "output": shown_feedback(test) or ("passed" if test.passed else ""),
-            })
+                "output": PICTURE_LINE.sub("", shown_feedback(test)).strip() or ("passed" if test.passed else ""),
+            }
+            picture = picture_html(test, folder)
+            if picture:
+                entry["output"] = f"<pre>{html.escape(entry['output'])}</pre>\n<p>{picture}</p>"
+                entry["output_format"] = "html"
+            tests.append(entry)
     return {
         "score": sum(result.score for result in results),
         "execution_time": round(elapsed, 1),
@@ -1015,6 +1092,50 @@ def gradescope_results(results, elapsed):
         "stdout_visibility": "hidden",
         "tests": tests,
     }
+
+
+REPORT_STYLE = """
+body { font-family: sans-serif; max-width: 60em; margin: 2em auto; color: #212121; }
+table { border-collapse: collapse; } td, th { padding: 0.2em 0.8em; text-align: left; }
+tr.lost td { color: #b71c1c; } pre { white-space: pre-wrap; background: #f5f5f5; padding: 0.6em; }
+section.test { border-top: 1px solid #bdbdbd; margin-top: 1.5em; }
+"""
+
+
+def submission_report(results, folder, submission):
+    """report.html: one page a browser opens from the file, with the points per task and each
+    failing visible test's message above the picture of its failing case (of a hidden test, only
+    that it failed)."""
+    rows, sections = [], []
+    for result in results:
+        lost = result.score < result.maximum
+        optional = " (optional)" if is_optional(result.task) else ""
+        rows.append(f'<tr class="{"lost" if lost else "full"}"><td>{TASK_NUMBER[result.task]}</td>'
+                    f"<td>{result.task}{optional}</td><td>{result.score} / {result.maximum}</td></tr>")
+        if result.problem:
+            sections.append(f'<section class="test"><h3>{task_name(result.task)} does not build</h3>'
+                            f"<pre>{html.escape(result.problem)}</pre></section>")
+            continue
+        for test in result.tests:
+            if test.passed:
+                continue
+            if test.visibility == "hidden":
+                sections.append(f'<section class="test"><h3>{task_name(result.task)}: a hidden test '
+                                f"({plural(test.points, 'point')})</h3><p>{html.escape(shown_feedback(test))}</p></section>")
+                continue
+            picture = picture_html(test, folder)
+            sections.append(f'<section class="test" id="{html.escape(test.name)}"><h3>{task_name(result.task)}: '
+                            f"{html.escape(test.name)} ({plural(test.points, 'point')})</h3>"
+                            f"<pre>{html.escape(PICTURE_LINE.sub('', test.feedback).strip())}</pre>"
+                            + (f"<p>{picture}</p>" if picture else "") + "</section>")
+    counted = [r for r in results if not is_optional(r.task)]
+    total = f"{sum(r.score for r in counted)} / {sum(r.maximum for r in counted)}"
+    return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"><title>Grading of '
+            f"{html.escape(submission)}: {total}</title><style>{REPORT_STYLE}</style></head><body>\n"
+            f"<h1>Grading of {html.escape(submission)}: {total} points</h1>\n"
+            "<table><tr><th></th><th>task</th><th>points</th></tr>\n" + "\n".join(rows) + "</table>\n"
+            + ("<h2>What failed</h2>\n" + "\n".join(sections) if sections else "<p>Every test passed.</p>")
+            + "\n</body></html>\n")
 
 
 def junit_xml(results):
@@ -1249,18 +1370,23 @@ def grade(arguments):
             results = build_suites(build, compiler, staged, problems, tasks, clocks)
             cache = ResultCache(arguments.cache, limits) if arguments.cache else None
             run_tests(results, build, sandbox, scratch, clocks, arguments.jobs, cache)
+            place_pictures(results, scratch, arguments.results)
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
 
     elapsed = time.monotonic() - started
-    write_atomically(arguments.results / "results.json", json.dumps(gradescope_results(results, elapsed), indent=2) + "\n")
+    write_atomically(arguments.results / "results.json",
+                     json.dumps(gradescope_results(results, elapsed, arguments.results), indent=2) + "\n")
     write_atomically(arguments.results / "junit.xml", junit_xml(results))
+    write_atomically(arguments.results / "report.html",
+                     submission_report(results, arguments.results, arguments.submission.resolve().name))
     if arguments.records:
         write_atomically(arguments.records.absolute(), json.dumps(task_records(results)) + "\n")
     audience = arguments.audience or ("student" if arguments.submission.resolve() == (REPO / "tasks").resolve()
                                       else "grader")
     print_table(results, verbose=not arguments.brief, own_tasks=audience == "student")
-    print(f"\nresults: {arguments.results / 'results.json'} (Gradescope) and {arguments.results / 'junit.xml'} (JUnit)")
+    print(f"\nresults: {arguments.results / 'report.html'} (open it in a browser: each failing test with the picture "
+          f"of its case), {arguments.results / 'results.json'} (Gradescope) and {arguments.results / 'junit.xml'} (JUnit)")
     print(f"grade: {elapsed:.0f} s in all, of which {own_build:.0f} s for the grader's own build; "
           + limits_summary(limits, tasks, factor, slower))
     return results
@@ -1494,10 +1620,10 @@ def run_tests(results, build, sandbox, scratch, clocks, jobs, cache, quiet=False
             os.chmod(copy, 0o755)
     for result in results:
         for test in result.tests:
-            test.passed, test.not_run, test.unfinished, test.feedback = False, False, False, ""
+            test.passed, test.not_run, test.unfinished, test.feedback, test.picture = False, False, False, "", ""
     work = [(test, suites[test.task]) for result in results for test in result.tests]
     if cache:
-        work = [(test, executable) for test, executable in work if not cache.recall(test, executable)]
+        work = [(test, executable) for test, executable in work if not cache.recall(test, executable, scratch)]
     if not quiet:
         print(f"grade: running {len(work)} tests, each in a process of its own, {jobs} at a time", flush=True)
     processes = Processes()
@@ -1518,7 +1644,7 @@ def run_tests(results, build, sandbox, scratch, clocks, jobs, cache, quiet=False
         processes.stop_orphans()
     if cache:
         for test, executable in work:
-            cache.remember(test, executable)
+            cache.remember(test, executable, scratch)
 
 
 def main(argv=None):

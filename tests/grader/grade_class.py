@@ -37,12 +37,12 @@ running it again, and after a fix to one task's tests only that task is regraded
 only those tasks are graded (the others keep what earlier runs gave, or stay empty).
 
 Written to --results (default build/grade/class/): students/<student>/ with the platforms'
-results.json and junit.xml (what the student may see: hidden tests without name or message) and
-the grader's log; gradebook.csv (one row per student: a column per task of course.txt in
+results.json and junit.xml, report.html and the pictures of the failing cases (what the student
+may see: hidden tests without name or message) and the grader's log; gradebook.csv (one row per student: a column per task of course.txt in
 course order, `total` of the required tasks, `optional`); tests.csv (one row per graded test:
 how many students failed it, and the most common first failure message); report.html (one page
 for the instructor, with figures: the totals, each task's points, the tests the class fails
-most and their lead hints; hidden tests named).
+most, their lead hints and a picture of the most common failure; hidden tests named).
 """
 
 import collections
@@ -259,8 +259,8 @@ def task_key(student, task, fingerprints):
 def grade_on_worker(repo, files, options, cutoff):
     """Runs on a Dask worker: grades one student's task files ({file name: bytes}) with
     grade.py and the given options, in this worker's build folder, and returns (records,
-    seconds, log). It uses the standard library only, so that a worker needs nothing of this
-    file but the repository."""
+    seconds, log, pictures: {file name: bytes} of the failing cases drawn). It uses the standard
+    library only, so that a worker needs nothing of this file but the repository."""
     repo = Path(repo)
     try:
         from distributed import get_worker
@@ -294,7 +294,9 @@ def grade_on_worker(repo, files, options, cutoff):
         if status != 0 or not records.is_file():
             why = "did not finish" if status is None else f"exited with status {status}"
             raise RuntimeError(f"grade.py {why} on {socket.gethostname()}:\n{log[-3000:]}")
-        return json.loads(records.read_text()), seconds, log
+        drawn = here / "results" / "pictures"  # grade.py's PICTURES, replaced by each grading
+        pictures = {path.name: path.read_bytes() for path in drawn.glob("*.svg")} if drawn.is_dir() else {}
+        return json.loads(records.read_text()), seconds, log, pictures
 
 
 def grading_options(tasks, jobs=None):
@@ -326,18 +328,41 @@ class ClassResults:
         saved = self.saved(student, task)
         return saved is not None and saved.get("key") == key
 
-    def save(self, student, records, keys, log=None):
-        """A student's new task records, then their results.json and junit.xml from every task."""
+    def save(self, student, records, keys, log=None, pictures=None):
+        """A student's new task records with the pictures of their failing cases ({file name:
+        bytes}), then their results.json, junit.xml and report.html from every task."""
+        own = self.folder / "students" / student.folder
+        pictures = pictures or {}
         for record in records:
+            for test in record["tests"]:
+                (own / grade.PICTURES / f"{test['name']}.svg").unlink(missing_ok=True)  # the last grading's
+                name = Path(test.get("picture") or "x").name
+                if test.get("picture") and name in pictures:
+                    (own / grade.PICTURES).mkdir(parents=True, exist_ok=True)
+                    (own / grade.PICTURES / name).write_bytes(pictures[name])
+                    line = f"Picture: {own / grade.PICTURES / name}\n"
+                else:
+                    test["picture"], line = "", ""
+                test["feedback"] = grade.PICTURE_LINE.sub(lambda _: line, test["feedback"]).strip()
             grade.write_atomically(self.record_path(student, record["task"]),
                                    json.dumps({"key": keys[record["task"]], "student": student.name, "record": record}))
-        own = self.folder / "students" / student.folder
         if log is not None:
             grade.write_atomically(own / "grade.log", "\n".join(student.notes) + "\n\n" + log)
         saved = [record for task in TASKS if (record := self.saved(student, task))]
         results = grade.results_from_records([entry["record"] for entry in saved])
-        grade.write_atomically(own / "results.json", json.dumps(grade.gradescope_results(results, 0), indent=2) + "\n")
+        grade.write_atomically(own / "results.json",
+                               json.dumps(grade.gradescope_results(results, 0, own), indent=2) + "\n")
         grade.write_atomically(own / "junit.xml", grade.junit_xml(results))
+        grade.write_atomically(own / "report.html", grade.submission_report(results, own, student.name))
+
+    def pictures_of(self, student_folder, record):
+        """The pictures a saved record's tests name, from the folder of the student who has them."""
+        own = self.folder / "students" / student_folder
+        found = {}
+        for test in record["tests"]:
+            if test.get("picture") and (own / test["picture"]).is_file():
+                found[Path(test["picture"]).name] = (own / test["picture"]).read_bytes()
+        return found
 
     def class_records(self, students):
         """{student name: {task: record}} of the tasks each student has been graded in."""
@@ -385,7 +410,7 @@ def grade_class(arguments):
     results = ClassResults(results_folder)
     # Grading is deterministic: a task file that several students hand in alike (the untouched
     # stub of a stage, a shared copy) is graded once, and its record copied to the others.
-    known = {(task, saved["key"]): saved["record"] for student in students for task in TASKS
+    known = {(task, saved["key"]): (saved["record"], student.folder) for student in students for task in TASKS
              if (saved := results.saved(student, task))}
     pending, copies, claimed = [], [], set()  # (student, [tasks to grade], {task: key}); (student, task, key)
     stale_students = 0
@@ -410,8 +435,8 @@ def grade_class(arguments):
         if pending:
             failures = run_pending(arguments, results, pending)
     finally:  # also when interrupted: what was graded is copied to whoever handed in the same
-        known.update({(task, saved["key"]): saved["record"] for student, own, _ in pending for task in own
-                      if (saved := results.saved(student, task))})
+        known.update({(task, saved["key"]): (saved["record"], student.folder) for student, own, _ in pending
+                      for task in own if (saved := results.saved(student, task))})
         failures += fill_copies(results, copies, known, {student.folder for student, _, _ in pending}, failures)
     graded = results.class_records(students)
     write_reports(results_folder, students, graded)
@@ -437,8 +462,11 @@ def fill_copies(results, copies, known, graded_folders, failures):
             missing.append(student.name)
     for entries in copied.values():
         student, keys = entries[0][0], entries[0][2]
-        results.save(student, [record for _, record, _ in entries], keys,
-                     None if student.folder in graded_folders else "graded like another student's same files")
+        pictures = {}
+        for _, (record, holder), _ in entries:
+            pictures |= results.pictures_of(holder, record)
+        results.save(student, [json.loads(json.dumps(record)) for _, (record, _), _ in entries], keys,
+                     None if student.folder in graded_folders else "graded like another student's same files", pictures)
     return missing
 
 
@@ -465,8 +493,8 @@ def run_pending(arguments, results, pending):
             student, keys = futures[future]
             done += 1
             if future.status == "finished":
-                records, seconds, log = future.result()
-                results.save(student, records, keys, log)
+                records, seconds, log, pictures = future.result()
+                results.save(student, records, keys, log, pictures)
                 points = sum(test["points"] for record in records for test in record["tests"] if test["passed"])
                 print(f"[{done}/{len(pending)}] {student.name}: {points} points in "
                       f"{', '.join(record['task'] for record in records)} ({seconds:.0f} s)", flush=True)
@@ -514,28 +542,31 @@ def write_reports(folder, students, graded):
         writer.writerows(rows)
     os.replace(folder / "gradebook.csv.partial", folder / "gradebook.csv")
 
-    tests = collections.OrderedDict()  # (task, name) -> {points, visibility, failed, messages}
+    tests = collections.OrderedDict()  # (task, name) -> {points, visibility, failed, messages, pictures}
     maxima = {}
-    for records in graded.values():
-        for task, record in records.items():
+    for student in students:
+        for task, record in graded.get(student.name, {}).items():
             maxima[task] = record["maximum"]
             if record["problem"]:
                 entry = tests.setdefault((task, "(builds)"), {"points": record["maximum"], "visibility": "visible",
                                                               "failed": 0, "not_written": 0,
-                                                              "messages": collections.Counter()})
+                                                              "messages": collections.Counter(), "pictures": {}})
                 entry["failed"] += 1
                 entry["messages"][lead_line(record["problem"])] += 1
             for test in record["tests"]:
                 entry = tests.setdefault((task, test["name"]), {"points": test["points"], "visibility": test["visibility"],
                                                                 "failed": 0, "not_written": 0,
-                                                                "messages": collections.Counter()})
+                                                                "messages": collections.Counter(), "pictures": {}})
                 if test["passed"]:
                     continue
                 entry["failed"] += 1
                 if NOT_WRITTEN.search(test["feedback"]):  # the untouched stub: nothing to re-teach
                     entry["not_written"] += 1
                 else:
-                    entry["messages"][lead_line(test["feedback"])] += 1
+                    message = lead_line(test["feedback"])
+                    entry["messages"][message] += 1
+                    if test.get("picture"):  # one student's picture of each message, for the report
+                        entry["pictures"].setdefault(message, f"students/{student.folder}/{test['picture']}")
     with open(folder / "tests.csv.partial", "w", newline="") as out:
         writer = csv.writer(out)
         writer.writerow(["task", "test", "points", "visibility", "failed", "not_written", "students",
@@ -597,9 +628,15 @@ def report_html(rows, tests, maxima, counted, students):
         axes.set_xlabel("% of the students who fail it (having written its task)")
         axes.set_title("The tests the class fails most")
         figures.append(svg_figure(figure))
+    def picture_link(entry):
+        message = entry["messages"].most_common(1)[0][0]
+        picture = entry["pictures"].get(message)
+        return f'<a href="{html.escape(picture)}">picture</a>' if picture else ""
+
     table = "".join(
         f"<tr><td>{html.escape(task)}</td><td>{html.escape(name)}{' (hidden)' if entry['visibility'] == 'hidden' else ''}"
-        f"</td><td>{failed} of {students}</td><td>{html.escape(entry['messages'].most_common(1)[0][0])}</td></tr>"
+        f"</td><td>{failed} of {students}</td><td>{html.escape(entry['messages'].most_common(1)[0][0])}</td>"
+        f"<td>{picture_link(entry)}</td></tr>"
         for failed, task, name, entry in most)
     mean = sum(row["total"] for row in rows) / len(rows) if rows else 0
     unwritten = ", ".join(f"{task} {count}" for task, count in not_written.items() if count)
@@ -616,8 +653,8 @@ Per student: <code>gradebook.csv</code>; per test: <code>tests.csv</code>.</p>
 <h2>What to teach again</h2>
 {unwritten}
 <p>The tests most students fail in a task they wrote, with the lead hint (or first line) of their most common
-failure message.</p>
-<table><tr><th>task</th><th>test</th><th>failed by</th><th>most common message</th></tr>{table}</table>
+failure message and, where the test draws its failing case, one student's picture of that failure.</p>
+<table><tr><th>task</th><th>test</th><th>failed by</th><th>most common message</th><th></th></tr>{table}</table>
 </body></html>
 """
 

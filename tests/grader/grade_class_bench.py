@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Benchmark of class grading: a class of 20 students (test_class.py's) graded on local Dask
+"""Benchmark of class grading: a class of 21 students (test_class.py's) graded on local Dask
 workers against the same students graded one after another, side by side in one run.
 
     /usr/bin/python3 tests/grader/grade_class_bench.py [--workers 2] [--rounds 2] [--all-tasks]

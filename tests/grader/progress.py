@@ -77,8 +77,9 @@ TASK_FUNCTIONS = {task: task for task in TASKS} | {
 } | {task: "main (the whole program)" for task in PROGRAM_TASKS}
 # The course's error for a task that is not written yet (lib/src/course/not_implemented.cpp).
 NOT_WRITTEN = re.compile(r"task (\d+) \(\w+\) is not implemented yet")
-# The lines of a graded test's message for students (tests/support/student_messages.hpp).
-STUDENT_MESSAGE = re.compile(r"(Expected|Your code|Hint): ")
+# The lines of a graded test's message for students (tests/support/student_messages.hpp), with
+# the picture of its failing case where it draws one.
+STUDENT_MESSAGE = re.compile(r"(Expected|Your code|Hint|Picture): ")
 
 
 def is_optional(task):
@@ -106,7 +107,7 @@ class TaskProgress:
     waits_for: set = field(default_factory=set)   # tasks a failure said are not implemented yet
     other_failures: int = 0                       # failures for any other reason
     problem: str = ""                             # grader only: why the suite could not be built
-    first_message: list = field(default_factory=list)  # Expected / Your code / Hint of the first failure
+    first_message: list = field(default_factory=list)  # Expected / Your code / Hint / Picture of the first failure
 
     def record(self, name, passed, output):
         self.tests += 1
@@ -120,7 +121,7 @@ class TaskProgress:
         self.other_failures += 1
         if self.other_failures == 1:
             self.first_message = [line.strip() for line in output.splitlines()
-                                  if STUDENT_MESSAGE.match(line.strip())][:3]
+                                  if STUDENT_MESSAGE.match(line.strip())][:4]
 
     @property
     def passes(self):
@@ -185,7 +186,8 @@ def next_step(progress, other_failing=(), waiting=0):
 
 
 def shortened(line, limit=160):
-    return line if len(line) <= limit else line[:limit - 3] + "..."
+    """A message's line cut to `limit` characters; a picture's path is never cut."""
+    return line if len(line) <= limit or line.startswith("Picture: ") else line[:limit - 3] + "..."
 
 
 def task_of(test_name):

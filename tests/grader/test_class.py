@@ -3,11 +3,12 @@
 
     /usr/bin/python3 tests/grader/test_class.py WORK_FOLDER [Case.test ...]
 
-A class of 20 students is made from the project's own material (the reference solutions, the
-stubs, every mutant of three tasks, the hostile files and a mix) and written in each layout the
-class grader reads. It is graded in those three tasks (the cheapest to grade; every step of the
-grading is the same for the others) on a Dask LocalCluster of two worker processes that the test
-starts, interrupted part-way and resumed, and compared with grading each student alone.
+A class of 21 students is made from the project's own material (the reference solutions, the
+stubs, every mutant of three tasks, one of propagate, the hostile files and a mix) and written in
+each layout the class grader reads. It is graded in those three tasks (the cheapest to grade;
+every step of the grading is the same for the others) and propagate (whose failures draw their
+case) on a Dask LocalCluster of two worker processes that the test starts, interrupted part-way
+and resumed, and compared with grading each student alone.
 """
 
 import json
@@ -26,13 +27,17 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parents[1]
 sys.path.insert(0, str(HERE))
+import browser  # noqa: E402
 import grade_class  # noqa: E402
 import package  # noqa: E402
 from progress import TASK_FILE  # noqa: E402
 from test_grader import mutant_source  # noqa: E402
 
 WORK = None  # set from the command line
-GRADED = ["init_velocities", "visualize_table", "kinetic_energy"]
+MUTATED = ["init_velocities", "visualize_table", "kinetic_energy"]  # every mutant of these is a student
+DRAWN = "propagate"  # one mutant of it, so that the class report links a failing case's picture
+DRAWN_MUTANT = "whole_velocity_swap"
+GRADED = MUTATED + [DRAWN]
 LAYOUTS = grade_class.LAYOUTS
 
 
@@ -43,7 +48,7 @@ def run(command, **options):
 
 
 def the_class():
-    """{student: {file name: bytes}}: 20 students' files for the graded tasks."""
+    """{student: {file name: bytes}}: 21 students' files for the graded tasks."""
     def files(**sources):
         return {TASK_FILE[task]: path.read_bytes() if isinstance(path, Path) else path
                 for task, path in sources.items()}
@@ -51,9 +56,11 @@ def the_class():
     stubs = {task: REPO / "tasks" / TASK_FILE[task] for task in GRADED}
     students = {"reference": files(**reference), "stubs": files(**stubs),
                 "hostile": files(**{task: HERE / "hostile" / TASK_FILE[task] for task in GRADED})}
-    for task in GRADED:
+    for task in MUTATED:
         for mutant in sorted((REPO / "tests" / "mutants" / task).glob("*.mutant")):
             students[f"{task}-{mutant.stem}"] = files(**{**reference, task: mutant_source(mutant).encode()})
+    drawn = mutant_source(REPO / "tests" / "mutants" / DRAWN / f"{DRAWN_MUTANT}.mutant").encode()
+    students[f"{DRAWN}-{DRAWN_MUTANT}"] = files(**{**reference, DRAWN: drawn})
     mutant = sorted((REPO / "tests" / "mutants" / "kinetic_energy").glob("*.mutant"))[0]
     students["mixed"] = files(init_velocities=reference["init_velocities"], visualize_table=stubs["visualize_table"],
                               kinetic_energy=mutant_source(mutant).encode())
@@ -248,21 +255,26 @@ class OnACluster(unittest.TestCase):
         page = (results / "report.html").read_text()
         self.assertEqual(page.count("<svg"), 3)
         self.assertIn("What to teach again", page)
+        # The student whose propagate fails: the pictures of their failing cases, in their results
+        # and in their own report, and linked from the class report (once per most-failed test).
+        drawn = results / "students" / f"{DRAWN}-{DRAWN_MUTANT}"
+        pictures = sorted(path.name for path in (drawn / "pictures").glob("*.svg"))
+        self.assertTrue(pictures, "the failing propagate tests drew nothing")
+        own = json.loads((drawn / "results.json").read_text())
+        self.assertEqual(len([t for t in own["tests"] if t.get("output_format") == "html"]), len(pictures))
+        self.assertEqual((drawn / "report.html").read_text().count("data:image/svg+xml;base64,"), len(pictures))
+        links = re.findall(r'href="(students/[^"]+\.svg)"', page)
+        self.assertTrue(links, "the class report links no picture")
+        self.assertTrue(all((results / link).is_file() for link in links), links)
         self.check_drawn(results / "report.html")
 
     def check_drawn(self, page):
         """Opens the page in Debian's headless chromium and checks what it draws: the figures'
         colours (the bars of the totals and of the most-failed tests) on a page that is not blank."""
-        from PIL import Image
-        picture = page.with_suffix(".png")
-        picture.unlink(missing_ok=True)
-        status, output = run(["chromium", "--headless", "--no-sandbox", "--disable-gpu", f"--screenshot={picture}",
-                              "--window-size=1000,2400", page.as_uri()], timeout=300)
-        self.assertTrue(picture.is_file(), output[-2000:])
-        with Image.open(picture) as image:
-            colours = image.convert("RGB").getcolors(maxcolors=1 << 20)
-        counts = {colour: count for count, colour in colours}
-        green, red = (0x2e, 0x7d, 0x32), (0xc6, 0x28, 0x28)  # report_html's bar colours
+        picture, output = browser.screenshot(page)
+        self.assertIsNotNone(picture, output[-2000:])
+        counts = browser.colour_counts(picture)
+        green, red = browser.rgb("#2e7d32"), browser.rgb("#c62828")  # report_html's bar colours
         self.assertGreater(counts.get(green, 0), 2000, "the figures of the totals and tasks are not drawn")
         self.assertGreater(counts.get(red, 0), 2000, "the figure of the most-failed tests is not drawn")
         self.assertGreater(len(counts), 50, "the page is (nearly) blank")

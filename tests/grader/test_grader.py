@@ -6,7 +6,9 @@ time through a resource lock), so each grading run rebuilds only what changed.
     /usr/bin/python3 tests/grader/test_grader.py BUILD_FOLDER [unittest arguments]
 """
 
+import html
 import json
+import math
 import os
 import re
 import shutil
@@ -21,16 +23,19 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parents[1]
 sys.path.insert(0, str(HERE))
+import browser  # noqa: E402
 import package  # noqa: E402  (the platforms' time limits)
 
 TASKS = package.TASKS
 BUILD = None  # set from the command line
 
 
-def grade(submission, *options, temporary=None):
-    """Runs the grader on a submission folder (with its temporary files in `temporary`, if given);
-    returns (scores, maxima, results.json, junit root, stdout)."""
-    results = Path(tempfile.mkdtemp(prefix="grader-results-"))
+def grade(submission, *options, temporary=None, results=None):
+    """Runs the grader on a submission folder (with its temporary files in `temporary`, if given,
+    and its results in `results`, kept, if given); returns (scores, maxima, results.json, junit
+    root, stdout)."""
+    keep = results is not None
+    results = Path(results or tempfile.mkdtemp(prefix="grader-results-"))
     try:
         done = subprocess.run(
             ["/usr/bin/python3", str(HERE / "grade.py"), "--submission", str(submission), "--build", str(BUILD),
@@ -42,7 +47,8 @@ def grade(submission, *options, temporary=None):
         report = json.loads((results / "results.json").read_text())
         junit = ET.parse(results / "junit.xml").getroot()
     finally:
-        shutil.rmtree(results, ignore_errors=True)
+        if not keep:
+            shutil.rmtree(results, ignore_errors=True)
     scores = {task: 0 for task in TASKS}
     maxima = {task: 0 for task in TASKS}
     for test in report["tests"]:
@@ -123,6 +129,108 @@ def mutant_source(mutant):
         pieces += [solution[at:start], replacement]
         at = end
     return "".join(pieces) + solution[at:]
+
+
+# The tasks whose failing tests draw their case (tests/support/failure_pictures.hpp).
+PICTURE_TASKS = [task for task in ["propagate", "movie", "gravity", "walls", "sectors"] if task in TASKS]
+SVG_CIRCLES = os.environ.get("BILLIARD_SVG_CIRCLES", "")  # the suites' SVG reader as a program
+
+
+def shown_text(entry):
+    """A results.json test's output as text: an HTML one (a message with its picture) unwrapped."""
+    if entry.get("output_format") != "html":
+        return entry.get("output", "")
+    return html.unescape(re.sub(r"<[^>]*>", "", entry["output"]))
+
+
+def picture_problems(picture, message):
+    """What is wrong with the picture of a failing case, read back with the suites' SVG reader:
+    the state it records (its metadata) must be drawn, every circle numbered once at its place; the
+    legend must repeat the message's Expected and Your code lines; and the events must be marked:
+    the expected one's circles (a pair touching, a circle on the table's wall or a straight wall,
+    the point of contact on it), the circle the student's code named, or (of a movie) the discs
+    shown elsewhere."""
+    name = picture.name
+    done = subprocess.run([SVG_CIRCLES, str(picture)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                          timeout=60)
+    if done.returncode != 0:
+        return [f"{name}: the SVG reader refuses it: {done.stderr.strip()}"]
+    circles = [json.loads(line) for line in done.stdout.splitlines()]
+    root = ET.parse(picture).getroot()
+    svg = "{http://www.w3.org/2000/svg}"
+    case = json.loads(root.find(f"{svg}metadata").text)
+    legend = " ".join(" ".join(element.itertext()) for element in root.iter(f"{svg}text"))
+    R, a = case["table_radius"], case["circle_radius"]
+    tolerance = 1e-6 * R
+    problems = []
+
+    def marked(kind):  # the drawing's circles of a class (not the legend's samples)
+        return [c for c in circles if kind in c["attributes"].get("class", "").split()
+                and "legend" not in c["attributes"].get("class", "").split()]
+
+    def place(circle):
+        return circle["x"], -circle["y"]  # the picture's y axis points down
+
+    def distance(p, q):
+        return math.hypot(p[0] - q[0], p[1] - q[1])
+
+    numbered = {}
+    for circle in marked("circle"):
+        numbered.setdefault(int(circle["attributes"]["data-circle"]), []).append(circle)
+    if sorted(numbered) != list(range(len(case["coordinates"]))) or any(len(c) != 1 for c in numbered.values()):
+        problems.append(f"{name}: circles {sorted(numbered)} drawn, not each of the {len(case['coordinates'])} once")
+    for i, centre in enumerate(case["coordinates"]):
+        drawn = numbered.get(i, [None])[0]
+        if drawn and (distance(place(drawn), centre) > tolerance or abs(drawn["radius"] - a) > tolerance):
+            problems.append(f"{name}: circle {i} drawn at {place(drawn)}, radius {drawn['radius']}; it is at {centre}")
+    # The student's message: its "Expected:" line is the one followed by "Your code:" (GoogleTest's
+    # own lines, such as "Expected: true" of EXPECT_TRUE, come before it).
+    words = " ".join(legend.split())
+    lines = message.splitlines()
+    at = next((k for k in range(len(lines) - 1)
+               if lines[k].startswith("Expected: ") and lines[k + 1].startswith("Your code: ")), None)
+    for line in lines[at:at + 2] if at is not None else []:
+        if " ".join(line.split()) not in words:
+            problems.append(f"{name}: the legend does not repeat the message's \"{line[:80]}...\"")
+
+    def ghosts(kind, i):
+        return [place(c) for c in marked(kind) if c["attributes"].get("data-circle") == str(i)]
+
+    if case["kind"] == "step":
+        expected, yours = case["expected"], case["yours"]
+        if not expected["none"]:
+            i, other = expected["circle"], expected["other"]
+            if not ghosts("expected", i):
+                problems.append(f"{name}: the expected event's circle {i} is not marked")
+            contacts = [place(c) for c in circles if {"expected", "contact"} <= set(c["attributes"].get("class", "").split())]
+            if other >= 0:
+                if not ghosts("expected", other) or not ghosts("expected", i) or \
+                        abs(distance(ghosts("expected", i)[0], ghosts("expected", other)[0]) - 2 * a) > tolerance:
+                    problems.append(f"{name}: the expected circles {i} and {other} are not drawn touching")
+            elif other == -1:
+                if not contacts or abs(distance(contacts[0], (0, 0)) - R) > tolerance:
+                    problems.append(f"{name}: the expected contact with the table's wall is not on it")
+            else:
+                ax, ay, bx, by = case["walls"][-2 - other]
+                length2 = (bx - ax) ** 2 + (by - ay) ** 2
+                def off_wall(p):
+                    s = max(0.0, min(1.0, ((p[0] - ax) * (bx - ax) + (p[1] - ay) * (by - ay)) / length2))
+                    return distance(p, (ax + s * (bx - ax), ay + s * (by - ay)))
+                if not contacts or off_wall(contacts[0]) > tolerance:
+                    problems.append(f"{name}: the expected contact with walls[{-2 - other}] is not on it")
+        mine, after = yours["circle"], yours["coordinates"]
+        placed = 0 <= mine < min(len(after), len(case["coordinates"])) and None not in after[mine]
+        if not yours["error"] and placed and not ghosts("yours", mine):
+            problems.append(f"{name}: the circle {mine} of the student's event is not marked")
+    elif case["kind"] == "positions":
+        elsewhere = [c for c in marked("yours") if "data-circle" in c["attributes"]]
+        if not elsewhere:
+            problems.append(f"{name}: no disc is marked where the movie shows it")
+        for circle in elsewhere:
+            i = int(circle["attributes"]["data-circle"])
+            if not ghosts("expected", i) or distance(ghosts("expected", i)[0], case["coordinates"][i]) > tolerance:
+                problems.append(f"{name}: disc {i}, shown elsewhere, is not marked at its place")
+    return problems
 
 
 def lead_hint(mutant):
@@ -312,10 +420,15 @@ class GradesKnownSubmissions(unittest.TestCase):
         self.assertGreaterEqual(set(hidden), set(graded))
         submission = submission_from_solutions(**{task: REPO / "tests" / "mutants" / task / f"{failing_hidden[task]}.mutant"
                                                   for task in graded})
+        results = Path(tempfile.mkdtemp(prefix="hidden-results-"))
         try:
-            scores, maxima, report, junit, output = grade(submission, *[word for task in graded for word in ("--task", task)])
+            scores, maxima, report, junit, output = grade(submission, *[word for task in graded for word in ("--task", task)],
+                                                          results=results)
+            written = {str(path.relative_to(results)): path.read_text(errors="replace")
+                       for path in results.rglob("*") if path.is_file()}
         finally:
             shutil.rmtree(submission)
+            shutil.rmtree(results)
         self.check_gradescope_format(report)
         # The hidden tests count (with their points) and fail on these mutants ...
         for task in graded:
@@ -326,9 +439,22 @@ class GradesKnownSubmissions(unittest.TestCase):
             self.assertTrue(any(test["status"] == "failed" for test in entries), f"{task}: a hidden test must fail here")
         # ... and their own feedback says what the hidden case is (so leaving it out matters):
         suite = BUILD / "tests" / "grader" / "grade_propagate"
-        direct = subprocess.run([str(suite), "--gtest_filter=Propagate.HeldOut*"], stdout=subprocess.PIPE,
-                                stderr=subprocess.STDOUT, text=True, timeout=600)
-        self.assertIn("held-out table", direct.stdout)
+        drawn = Path(tempfile.mkdtemp(prefix="hidden-pictures-"))
+        try:
+            direct = subprocess.run([str(suite), "--gtest_filter=Propagate.HeldOut*"], stdout=subprocess.PIPE,
+                                    stderr=subprocess.STDOUT, text=True, timeout=600,
+                                    env=dict(os.environ, BILLIARD_PICTURES=str(drawn)))
+            self.assertIn("held-out table", direct.stdout)
+            # It would draw its case too, were it asked to.
+            self.assertTrue(list(drawn.glob("Propagate.HeldOut*.svg")), direct.stdout[-2000:])
+        finally:
+            shutil.rmtree(drawn)
+        # No picture of a hidden test anywhere in the results (the grader never asks for one).
+        self.assertTrue(any(name.startswith("pictures/") for name in written), "the visible failures draw theirs")
+        for name, content in written.items():
+            for secret in ["held-out", "HeldOut", "hidden/test_"] + [n for task in hidden for _, n, _ in hidden[task]]:
+                self.assertNotIn(secret, name, f"the results hold {name}, a file of a hidden test")
+                self.assertFalse(secret in content, f"{name} shows '{secret}' of a hidden test")
         # Visible failures keep their messages; nothing of a hidden test reaches the student.
         self.assertTrue(any("Expected:" in test["output"] for test in report["tests"] if test["visibility"] != "hidden"))
         secrets = ["held-out", "HeldOut", "hidden/test_"] + [name for task in hidden for _, name, _ in hidden[task]]
@@ -337,6 +463,34 @@ class GradesKnownSubmissions(unittest.TestCase):
         for place, content in places.items():
             for secret in secrets:
                 self.assertNotIn(secret, content, f"{place} shows '{secret}' of a hidden test")
+
+    def test_report_shows_each_failing_case_drawn(self):
+        """A submission's report.html, drawn by Debian's headless chromium: the failing visible
+        tests' pictures are on the page (the table's fill and both accounts' colours)."""
+        task = next(iter(PICTURE_TASKS), None)
+        if task is None:
+            self.skipTest("this course has no task whose failures draw a picture")
+        mutant = sorted(mutant for mutant in (REPO / "tests" / "mutants" / task).glob("*.mutant") if lead_hint(mutant))[0]
+        submission = submission_from_solutions(**{task: mutant})
+        results = Path(tempfile.mkdtemp(prefix="report-results-"))
+        try:
+            _, _, report, _, output = grade(submission, "--task", task, results=results)
+            self.assertIn(str(results / "report.html"), output)  # the closing block names it
+            page = (results / "report.html").read_text()
+            drawn = [test for test in report["tests"] if test.get("output_format") == "html"]
+            self.assertTrue(drawn, f"{mutant.name}: no failing test of {task} drew its case")
+            self.assertEqual(page.count("data:image/svg+xml;base64,"), len(drawn))
+            picture, chromium = browser.screenshot(results / "report.html", height=3000)
+            self.assertIsNotNone(picture, chromium[-2000:])
+            counts = browser.colour_counts(picture)
+            # failure_pictures.cpp's table fill and the two accounts' colours.
+            for colour, what in [("#f1f8e9", "the table"), ("#1565c0", "the expected event"),
+                                 ("#e65100", "the student's event")]:
+                self.assertGreater(counts.get(browser.rgb(colour), 0), 50 if colour != "#f1f8e9" else 20000,
+                                   f"{what} is not drawn on the page")
+        finally:
+            shutil.rmtree(submission)
+            shutil.rmtree(results)
 
     @unittest.skipUnless(os.geteuid() == 0, "needs root to run the submission as another user")
     def test_including_the_reference_solution_gains_nothing(self):
@@ -388,32 +542,46 @@ class Mutants(unittest.TestCase):
     def test_every_mutant_loses_points_only_in_its_own_task(self):
         """...and the first visible test of its task that fails leads with a hint naming the bug, for
         every mutant that models a student's mistake (its "Lead hint names:" line); at least five
-        such mutants per task."""
+        such mutants per task. In a task where a state evolves, that test draws its failing case:
+        the picture is read back and checked against the message (picture_problems)."""
+        self.assertTrue(Path(SVG_CIRCLES).is_file() or not PICTURE_TASKS, "BILLIARD_SVG_CIRCLES names no program")
         # The mutants of the tasks this course grades (course.txt may switch stages off).
         mutants = sorted(mutant for mutant in (REPO / "tests" / "mutants").glob("*/*.mutant")
                          if mutant.parent.name in TASKS)
         self.assertGreaterEqual(len(mutants), 20)
         problems = []
         with_lead = {task: 0 for task in TASKS}
+        pictures = 0
         for mutant in mutants:
             task = mutant.parent.name
             submission = submission_from_solutions(**{task: mutant})
+            results = Path(tempfile.mkdtemp(prefix="mutant-results-"))
             try:
                 # Unchanged suites (all but the mutant's own) are remembered, not run again.
                 scores, maxima, report, _, _ = grade(submission, "--brief", "--cache",
-                                                     str(BUILD.parent / "grader-cache"))
+                                                     str(BUILD.parent / "grader-cache"), results=results)
+                lead = lead_hint(mutant)
+                if lead:
+                    with_lead[task] += 1
+                    first = next((test for test in report["tests"] if test["name"].startswith(task + ":")
+                                  and test["status"] == "failed" and test["visibility"] != "hidden"), None)
+                    message = shown_text(first or {})
+                    hint = next((line for line in message.splitlines() if line.startswith("Hint:")), "")
+                    if lead.lower() not in hint.lower():
+                        problems.append(f"{task}/{mutant.name}: the first failing test "
+                                        f"{first['name'] if first else '(none)'} leads with \"{hint}\", which does not "
+                                        f"name the bug (\"{lead}\")")
+                    if first and task in PICTURE_TASKS:
+                        drawn = results / "pictures" / f"{first['name'].split(': ', 1)[1]}.svg"
+                        if not drawn.is_file() or first.get("output_format") != "html":
+                            problems.append(f"{task}/{mutant.name}: the first failing test {first['name']} "
+                                            "draws no picture")
+                        else:
+                            pictures += 1
+                            problems += [f"{task}/{mutant.name}: {problem}" for problem in picture_problems(drawn, message)]
             finally:
                 shutil.rmtree(submission)
-            lead = lead_hint(mutant)
-            if lead:
-                with_lead[task] += 1
-                first = next((test for test in report["tests"] if test["name"].startswith(task + ":")
-                              and test["status"] == "failed" and test["visibility"] != "hidden"), None)
-                hint = next((line for line in (first or {}).get("output", "").splitlines() if line.startswith("Hint:")), "")
-                if lead.lower() not in hint.lower():
-                    problems.append(f"{task}/{mutant.name}: the first failing test "
-                                    f"{first['name'] if first else '(none)'} leads with \"{hint}\", which does not "
-                                    f"name the bug (\"{lead}\")")
+                shutil.rmtree(results, ignore_errors=True)
             line = f"{task}/{mutant.name}: " + ", ".join(f"{t} {scores[t]}/{maxima[t]}" for t in TASKS)
             print(line, flush=True)
             if scores[task] >= maxima[task]:
@@ -421,10 +589,11 @@ class Mutants(unittest.TestCase):
             for other in TASKS:
                 if other != task and scores[other] != maxima[other]:
                     problems.append(f"{task}/{mutant.name} costs points in {other}")
-        print("mutants with a lead hint: " + ", ".join(f"{task} {count}" for task, count in with_lead.items()), flush=True)
+        print("mutants with a lead hint: " + ", ".join(f"{task} {count}" for task, count in with_lead.items())
+              + f"; {pictures} pictures of their first failures read back", flush=True)
         problems += [f"{task}: only {count} mutants check the lead hint (5 wanted)"
                      for task, count in with_lead.items() if count < 5]
-        self.assertEqual(problems, [])
+        self.assertEqual(problems, [], "\n".join(problems))
 
 
 if __name__ == "__main__":

@@ -70,6 +70,14 @@ class Report(unittest.TestCase):
         self.assertEqual(lines[next_at + 1:], ["  Expected: 3 rows", "  Your code: 2 rows", "  Hint: one row per circle",
                                                "  Fix tasks/init_billiard.cpp, then run: ./build.sh test -L init_billiard"])
 
+    def test_the_picture_of_the_failing_case_is_named_whole(self):
+        picture = "/home/student/billiard/build/tasks/Testing/pictures/" + "Propagate." + "Long" * 40 + ".svg"
+        message = f"Expected: a wall hit\nYour code: {'x' * 300}\nHint: the positive root\nPicture: {picture}\n"
+        lines = block([("propagate.P.Fails", "fail", message)])
+        next_at = lines.index(next(line for line in lines if line.startswith("Next:")))
+        self.assertEqual(lines[next_at + 4], f"  Picture: {picture}")
+        self.assertTrue(lines[next_at + 2].endswith("..."))  # a long message line is cut, the path is not
+
     def test_a_task_waiting_for_an_earlier_one_points_to_that_one(self):
         lines = block([("movie.M.X", "fail", stub_message("propagate"))])
         self.assertIn("   5 movie            waits for task 4 (propagate)", lines)

@@ -158,7 +158,8 @@ std::string metadata_of(const FailingCase& failing, std::string_view test) {
                   number(b.walls[k].b(0)), ", ", number(b.walls[k].b(1)), "]");
   }
   walls += "]";
-  return text("{\"test\": ", json_string(test), ", \"heading\": ", json_string(failing.heading),
+  return text("{\"test\": ", json_string(test), ", \"kind\": ", json_string(failing.kind),
+              ", \"heading\": ", json_string(failing.heading),
               ", \"table_radius\": ", number(b.table_radius), ", \"circle_radius\": ", number(b.circle_radius),
               ", \"walls\": ", walls, ", \"gravity\": [", number(b.gravity(0)), ", ", number(b.gravity(1)),
               "], \"cell_size\": ", number(b.cell_size), ", \"coordinates\": ", json_rows(b.coordinates),
@@ -354,8 +355,12 @@ FailingCase step_case(const Board& board, const Outcome& expected, const Outcome
   failing.expected = account_of(board, expected);
   failing.yours = account_of(board, yours);
   // Circles outside both events that the two accounts leave in different places or with
-  // different velocities (a bystander not moved, a velocity changed that should not be).
-  const bool both_states = expected.error.empty() && yours.error.empty() && !expected.none &&
+  // different velocities (a bystander not moved, a velocity changed that should not be). Only
+  // when both events come at the same time: else every circle is elsewhere, and drawing them all
+  // would hide the events.
+  const double scale = board.table_radius / std::max(std::sqrt(board.velocities.squaredNorm()), 1e-300);
+  const bool both_states = expected.error.empty() && yours.error.empty() && !expected.none && !yours.none &&
+                           std::abs(expected.event.time - yours.event.time) <= 1e-9 * (scale + expected.event.time) &&
                            expected.coordinates.rows() == board.coordinates.rows() &&
                            yours.coordinates.rows() == board.coordinates.rows() &&
                            expected.velocities.rows() == board.velocities.rows() &&
@@ -390,6 +395,7 @@ FailingCase state_case(Board board, std::string heading) {
   failing.heading = std::move(heading);
   failing.board = std::move(board);
   failing.expected_outcome.none = failing.your_outcome.none = true;
+  failing.kind = "state";
   failing.key = "Numbered circles: the state the test gave, arrows their velocities.";
   return failing;
 }

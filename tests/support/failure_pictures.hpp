@@ -95,6 +95,9 @@ struct Account {
   int wall = -1;                // the straight wall it touches (walls[wall]), or -1
 };
 struct FailingCase {
+  // "step": a call of a step function; "positions": the discs at one moment against where
+  // something else puts them (the movie); "state": a state and nothing else (mean_energy).
+  std::string kind = "step";
   std::string heading;  // "propagate call 3 of 40 in this test: the first where ..."
   Board board;          // the state drawn, circles at their places with their velocities
   Account expected, yours;
