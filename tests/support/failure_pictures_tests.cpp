@@ -1,0 +1,165 @@
+// Tests of the pictures of a failing case (failure_pictures.hpp), not graded: which step of a
+// test is drawn, that the drawing shows that step (read back with the suites' SVG reader), that a
+// test's old picture goes when it starts, and that nothing is drawn when pictures are off.
+// Label "support": ctest --preset release -L support
+#include "support/failure_pictures.hpp"
+#include "support/fixtures.hpp"
+#include "support/oracle.hpp"
+#include "support/student_messages.hpp"
+#include "support/svg_reader.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <string>
+#include <utility>
+
+namespace billiard::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+const bool kJudged = register_step_judge("propagate", oracle_judgement);
+
+// A correct step of a plain table: the oracle's own.
+Collision oracle_propagate(double R, double a, Coordinates& c, Velocities& v) {
+  const OracleStep step = oracle_step(R, a, c, v, 0);
+  oracle_advance(step, c, v);
+  const OracleEvent& e = step.events.front();
+  return Collision{e.time, e.circle, e.other};
+}
+
+// Pictures on, into a scratch folder, for one test.
+class Pictures : public ::testing::Test {
+ protected:
+  void SetUp() override { ::setenv("BILLIARD_PICTURES", folder_.path().c_str(), 1); }
+  void TearDown() override { ::unsetenv("BILLIARD_PICTURES"); }
+  fs::path file() const {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    return folder_ / (std::string(info->test_suite_name()) + "." + info->name() + ".svg");
+  }
+  ScratchFolder folder_;
+};
+
+// The circles of a picture by class and number: {class, data-circle} -> centre in table units.
+std::map<std::pair<std::string, int>, std::array<double, 2>> circles_of(const fs::path& file) {
+  std::map<std::pair<std::string, int>, std::array<double, 2>> found;
+  const SvgDocument document = read_svg(file);  // the circles point into it
+  for (const SvgCircle* circle : document.rendered_circles()) {
+    const auto number = circle->attributes.find("data-circle");
+    if (number == circle->attributes.end()) continue;
+    found[{circle->attributes.at("class"), std::stoi(number->second)}] = {circle->x, -circle->y};
+  }
+  return found;
+}
+
+TEST_F(Pictures, ADifferentEventIsDrawnWithBothAccountsAtTheirPlaces) {
+  // Head-on: the circles touch at (-1, 0) and (1, 0) after time 4. A "student" step that says
+  // circle 0 hits the wall after time 9 instead, at (9, 0).
+  Coordinates c(2, 2);
+  Velocities v(2, 2);
+  c << -5, 0, 5, 0;
+  v << 1, 0, -1, 0;
+  recorded_step(table_board(10, 1), c, v, [&] {
+    c << 9, 0, -4, 0;
+    v << -1, 0, -1, 0;
+    return Collision{9, 0, kWall};
+  });
+  const std::string message = explain("circles 0 and 1 after time 4", "circle 0 hits the wall", "a hint");
+  ASSERT_NE(message.find("Picture: " + file().string()), std::string::npos) << message;
+  const auto drawn = circles_of(file());
+  const auto near = [&](std::pair<std::string, int> key, double x, double y) {
+    ASSERT_TRUE(drawn.count(key)) << key.first << " " << key.second;
+    EXPECT_NEAR(drawn.at(key)[0], x, 1e-9);
+    EXPECT_NEAR(drawn.at(key)[1], y, 1e-9);
+  };
+  near({"circle", 0}, -5, 0);  // the state before the call
+  near({"circle", 1}, 5, 0);
+  near({"expected", 0}, -1, 0);  // where the expected event puts them: touching
+  near({"expected", 1}, 1, 0);
+  near({"yours", 0}, 9, 0);  // where the student's code put circle 0
+  EXPECT_FALSE(drawn.count({"yours", 1}));  // different event times: no bystanders drawn
+  std::ifstream in(file());
+  const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(svg.find("circles 0 and 1 collide after time 4"), std::string::npos);
+  EXPECT_NE(svg.find("circle 0 hits the table's wall after time 9"), std::string::npos);
+}
+
+TEST_F(Pictures, TheFirstStepThatLeavesTheExpectedRunIsDrawnNotTheLast) {
+  // Twenty correct steps of a lone circle, then a wrong one, then more correct ones: the
+  // picture shows call 21 (the failure is only found later).
+  Coordinates c(1, 2);
+  Velocities v(1, 2);
+  c << 0, 3;
+  v << 1, 0.3;
+  for (int k = 1; k <= 30; ++k) {
+    recorded_step(table_board(6, 1), c, v, [&] {
+      const Collision event = oracle_propagate(6, 1, c, v);
+      if (k == 21) v = -v;  // the whole velocity reversed at the wall
+      return event;
+    });
+  }
+  explain("a constant chord time", "it changed", "a hint");
+  std::ifstream in(file());
+  const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(svg.find("propagate call 21 of 30 in this test: the first where"), std::string::npos);
+}
+
+TEST_F(Pictures, WithoutADifferenceTheLastStepIsDrawn) {
+  Coordinates c(1, 2);
+  Velocities v(1, 2);
+  c << 0, 0;
+  v << 1, 0;
+  for (int k = 0; k < 3; ++k) recorded_step(table_board(10, 1), c, v, [&] { return oracle_propagate(10, 1, c, v); });
+  explain("something the event does not show", "something else", "a hint");
+  std::ifstream in(file());
+  const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(svg.find("propagate call 3 of 3 in this test, the last before the failure"), std::string::npos);
+}
+
+TEST_F(Pictures, ATestWithoutStepsDrawsNothing) {
+  const std::string message = explain("3 rows", "2 rows", "a hint");
+  EXPECT_EQ(message.find("Picture:"), std::string::npos);
+  EXPECT_FALSE(fs::exists(file()));
+}
+
+std::string program;  // this test program, from main()
+
+// A test that passes: the one the next test runs again in a process of its own.
+TEST(PicturesRerun, PassesNow) {}
+
+TEST_F(Pictures, AnOldPictureGoesWhenItsTestRunsAgain) {
+  // A picture left by a failing run of PicturesRerun.PassesNow goes when that test runs again
+  // (the listener removes it as the test starts), so the folder holds the last run's failures.
+  const fs::path old = folder_ / "PicturesRerun.PassesNow.svg";
+  std::ofstream(old) << "<svg xmlns=\"http://www.w3.org/2000/svg\"/>";
+  const std::string command = "'" + program + "' --gtest_filter=PicturesRerun.PassesNow > /dev/null";
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  EXPECT_FALSE(fs::exists(old));
+}
+
+TEST(PicturesOff, NothingIsWrittenWithoutTheVariable) {
+  ::unsetenv("BILLIARD_PICTURES");
+  Coordinates c(1, 2);
+  Velocities v(1, 2);
+  c << 0, 0;
+  v << 1, 0;
+  recorded_step(table_board(10, 1), c, v, [&] { return Collision{1, 0, kWall}; });
+  EXPECT_EQ(explain("a", "b", "c").find("Picture:"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace billiard::testing
+
+int main(int argc, char** argv) {
+  billiard::testing::program = std::filesystem::absolute(argv[0]).string();
+  ::testing::InitGoogleTest(&argc, argv);
+  billiard::testing::install_picture_listener();
+  return RUN_ALL_TESTS();
+}
