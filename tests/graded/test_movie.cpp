@@ -294,32 +294,44 @@ FailingCase positions_case(const System& s, const Coordinates& expected, const V
 }
 
 // The picture of a failing test of a movie file: the first moment (a collision, or half way
-// between two) at which the animation, as a browser plays it, shows a disc away from its place.
+// between two) at which the animation, as a browser plays it, shows a disc visibly away from its
+// place (by a quarter of its radius), else the first at which it shows one away at all.
 std::optional<FailingCase> movie_case(const System& s, const SvgDocument& picture) {
   const Truth t = truth(s);
   double worst = kInf;
   const auto film = match_discs(picture, s, t.positions.front(), Reading::as_a_browser_plays_it, worst);
   if (!film) return std::nullopt;
+  struct Moment {
+    double time;
+    Coordinates expected;
+    const Velocities* velocities;
+    std::string what;
+  };
+  std::vector<Moment> moments;
   for (std::size_t k = 0; k < t.times.size(); ++k) {
-    for (const bool half_way : {false, true}) {
-      if (half_way && k + 1 == t.times.size()) break;
-      const double dt = half_way ? (t.times[k + 1] - t.times[k]) / 2 : 0.0;
-      const double time = t.times[k] + dt;
-      const Coordinates expected = t.positions[k] + dt * t.velocities[k];
+    moments.push_back({t.times[k], t.positions[k], &t.velocities[k],
+                       k == 0 ? std::string("at the start") : text("at collision ", k)});
+    if (k + 1 < t.times.size()) {
+      const double dt = (t.times[k + 1] - t.times[k]) / 2;
+      moments.push_back({t.times[k] + dt, t.positions[k] + dt * t.velocities[k], &t.velocities[k],
+                         text("half way between collisions ", k, " and ", k + 1)});
+    }
+  }
+  const double fraction_of = t.total() > 0 ? 1 / t.total() : 0.0;
+  for (const bool visibly : {true, false}) {
+    const double away = visibly ? std::max(0.25 * s.a, kPictureTolerance * s.R) : kPictureTolerance * s.R;
+    for (const Moment& moment : moments) {
       Coordinates shown(s.n, 2);
       for (int i = 0; i < s.n; ++i) {
-        const auto p = shown_position(*film, *film->discs[static_cast<std::size_t>(i)],
-                                      t.total() > 0 ? time / t.total() : 0.0, Reading::as_a_browser_plays_it);
+        const auto p = shown_position(*film, *film->discs[static_cast<std::size_t>(i)], moment.time * fraction_of,
+                                      Reading::as_a_browser_plays_it);
         shown.row(i) << p[0], p[1];
       }
-      if ((shown - expected).rowwise().norm().maxCoeff() <= kPictureTolerance * s.R) continue;
-      const std::string moment = half_way ? text("half way between collisions ", k, " and ", k + 1)
-                                 : k == 0 ? std::string("at the start")
-                                          : text("at collision ", k);
-      return positions_case(s, expected, t.velocities[k], shown,
-                            text("Time ", time, " of ", t.total(), " (", moment, ", fraction ",
-                                 t.total() > 0 ? time / t.total() : 0.0,
-                                 " of the animation): the first moment the animation leaves the discs' paths"),
+      if (!((shown - moment.expected).rowwise().norm().maxCoeff() > away)) continue;
+      return positions_case(s, moment.expected, *moment.velocities, shown,
+                            text("Time ", moment.time, " of ", t.total(), " (", moment.what, ", fraction ",
+                                 moment.time * fraction_of, " of the animation): the first moment the animation "
+                                 "shows discs ", visibly ? "visibly " : "", "away from their paths"),
                             "the animation, as a browser plays it");
     }
   }
