@@ -269,3 +269,15 @@ def test_script_without_main_guard_is_refused_before_workers_start(tmp_path):
     assert done.returncode == 1
     assert "RuntimeError: billiard: starting local worker processes from the top level of" in done.stderr
     assert 'put the call under `if __name__ == "__main__":`' in done.stderr
+
+
+@pytest.mark.parametrize("way", ["stdin", "-c"])
+def test_a_script_on_standard_input_or_the_command_line_runs_on_local_workers(way):
+    # Local workers start by running the caller's script by its file name; "<stdin>" names none.
+    script = ("import billiard\n\n\ndef run(x, seed):\n    return {'twice': 2 * x}\n\n\n"
+              "print(sorted(r['twice'] for r in billiard.sweep(run, {'x': [1, 2, 3]}, workers=2, quiet=True)))\n")
+    command = [sys.executable, "-"] if way == "stdin" else [sys.executable, "-c", script]
+    done = subprocess.run(command, input=script if way == "stdin" else None, capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert done.stdout.strip().splitlines()[-1] == "[2, 4, 6]"

@@ -248,6 +248,18 @@ def _refuse_unguarded_script():
                        "they import the script, so put the call under `if __name__ == \"__main__\":`")
 
 
+def _forget_unreadable_main_file():
+    """A script read on standard input (``python3 - < script.py``) has the file name "<stdin>",
+    which a local worker process, started by multiprocessing's spawn, would run as the caller's
+    script: it fails, and Dask starts it again without end. Without a file name the workers start
+    as they do for ``python3 -c`` (the runs reach them by value, as cloudpickle sends functions of
+    ``__main__``)."""
+    main = sys.modules.get("__main__")
+    path = getattr(main, "__file__", None)
+    if isinstance(path, str) and path.startswith("<") and path.endswith(">"):
+        del main.__file__
+
+
 def _is_main_test(test):
     if not (isinstance(test, ast.Compare) and len(test.ops) == 1 and isinstance(test.ops[0], ast.Eq)):
         return False
@@ -338,6 +350,7 @@ def local_client(workers=None):
         raise ValueError(f"workers: must be >= 1, got {workers}")
     _refuse_inside_worker_start()
     _refuse_unguarded_script()
+    _forget_unreadable_main_file()
     try:
         import dask
         from distributed import Client
