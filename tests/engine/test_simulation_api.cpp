@@ -50,6 +50,10 @@ TEST(Api, BadDiscsAreRefusedNamingTheDiscAndTheValue) {
   billiard::Disc bad_inertia = make_disc(Vec2(4, 8), Vec2(0, 0));
   bad_inertia.inertia = -1.0;
   expect_refused([&] { sim.add_disc(bad_inertia); }, {"disc 2", "inertia", "-1"});
+  // No disc has a moment above a thin ring's, mass radius^2 (here 1; test_rough's discs have
+  // exactly that).
+  bad_inertia.inertia = 1 + 1e-9;
+  expect_refused([&] { sim.add_disc(bad_inertia); }, {"disc 2", "inertia", "mass x radius^2 = 1"});
   // Nothing was added.
   EXPECT_EQ(sim.size(), 2);
   EXPECT_EQ(sim.current_state().positions.rows(), 2);

@@ -198,6 +198,13 @@ void Simulation::Engine::check_disc(const Disc& disc, int index) const {
   if (!in_scale(disc.radius)) refuse(who + ": radius " + kScale + ", got " + number(disc.radius));
   if (!in_scale(disc.mass)) refuse(who + ": mass " + kScale + ", got " + number(disc.mass));
   if (disc.inertia && !in_scale(*disc.inertia)) refuse(who + ": inertia " + kScale + ", got " + number(*disc.inertia));
+  // A thin ring, all its mass at the rim, has the largest moment a disc can have: mass radius^2
+  // (with 1e-12 for rounding in how the caller computed it).
+  const double ring = disc.mass * disc.radius * disc.radius;
+  if (disc.inertia && *disc.inertia > ring * (1 + 1e-12)) {
+    refuse(who + ": inertia " + number(*disc.inertia) + " is more than mass x radius^2 = " + number(ring) +
+           ", which no disc can have (a thin ring, all its mass at the rim, has that much)");
+  }
   if (!bounded(disc.spin)) refuse(who + ": spin " + kBounded + ", got " + number(disc.spin));
   const Vec2& r = disc.position;
   const double a = disc.radius;

@@ -19,7 +19,8 @@ struct Disc {
   Vec2 velocity = Vec2::Zero();
   double radius = 1.0;                  // > 0
   double mass = 1.0;                    // > 0
-  std::optional<double> inertia;        // > 0; unset means a uniform disc, mass radius^2 / 2
+  std::optional<double> inertia;        // in (0, mass radius^2] (a thin ring); unset: a uniform
+                                        // disc, mass radius^2 / 2
   double spin = 0.0;
 };
 
