@@ -94,14 +94,11 @@ build() {
 }
 configure_options=()
 
-# Makes Debian's /usr/bin/python3 import the module `billiard` built here, from any folder: a
-# .pth file in the user's site-packages names the build's python/ folder (no pip, no PyPI).
+# Makes Debian's /usr/bin/python3 import the module `billiard` built here: from this checkout's
+# folders, and from any folder outside a checkout (lib/python/register_checkout.py: a finder in the
+# user's site-packages; no pip, no PyPI). Another checkout imports its own build.
 register_python_module() {
-  local site
-  site=$(/usr/bin/python3 -c 'import site; print(site.getusersitepackages())')
-  mkdir -p "$site"
-  echo "$PWD/build/$BILLIARD_PRESET/python" > "$site/billiard.pth"
-  echo "build.sh: /usr/bin/python3 imports billiard from build/$BILLIARD_PRESET/python (via $site/billiard.pth)"
+  /usr/bin/python3 lib/python/register_checkout.py "build/$BILLIARD_PRESET/python"
 }
 
 # read_label_options [ctest options]: sets `labels` to the labels the options select (-L LABEL,

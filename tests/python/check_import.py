@@ -1,6 +1,7 @@
 """Checks what the README promises after its set-up (./build.sh test or ./build.sh python):
 Debian's /usr/bin/python3 imports `billiard` from the repository root and from notebooks/,
-without PYTHONPATH, and gets the package built here.
+without PYTHONPATH, and gets the package built here (registered by lib/python/register_checkout.py;
+test_checkouts.py checks several checkouts on one machine).
 
     /usr/bin/python3 tests/python/check_import.py BUILD_PYTHON_FOLDER
 """
