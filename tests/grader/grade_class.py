@@ -40,7 +40,8 @@ Written to --results (default build/grade/class/): students/<student>/ with the 
 results.json and junit.xml, report.html and the pictures of the failing cases (what the student
 may see: hidden tests without name or message) and the grader's log; gradebook.csv (one row per student: a column per task of course.txt in
 course order, `total` of the required tasks, `optional`); tests.csv (one row per graded test:
-how many students failed it, and the most common first failure message); report.html (one page
+how many students failed it, the most common first failure message and one student's picture of
+it); report.html (one page
 for the instructor, with figures: the totals, each task's points, the tests the class fails
 most, their lead hints and a picture of the most common failure; hidden tests named).
 """
@@ -285,8 +286,10 @@ def grade_on_worker(repo, files, options, cutoff):
             command.append("--protect-reference")
         started = time.monotonic()
         try:
+            # grade.py holds the lock too: if this worker is killed, a grading it started goes on
+            # and the worker that Dask starts in its place waits for it, never sharing the folder.
             done = subprocess.run(command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                  text=True, errors="replace", timeout=cutoff)
+                                  text=True, errors="replace", timeout=cutoff, pass_fds=(lock.fileno(),))
             log, status = done.stdout, done.returncode
         except subprocess.TimeoutExpired as expired:
             log, status = str(expired.stdout or ""), None
@@ -570,13 +573,23 @@ def write_reports(folder, students, graded):
     with open(folder / "tests.csv.partial", "w", newline="") as out:
         writer = csv.writer(out)
         writer.writerow(["task", "test", "points", "visibility", "failed", "not_written", "students",
-                         "most_common_failure"])
+                         "most_common_failure", "picture"])
         for (task, name), entry in tests.items():
-            common = entry["messages"].most_common(1)
             writer.writerow([task, name, entry["points"], entry["visibility"], entry["failed"], entry["not_written"],
-                             len(graded), common[0][0] if common else ""])
+                             len(graded), most_common(entry), picture_of(entry)])
     os.replace(folder / "tests.csv.partial", folder / "tests.csv")
     grade.write_atomically(folder / "report.html", report_html(rows, tests, maxima, counted, len(graded)))
+
+
+def most_common(entry):
+    """A test's most common failure message (its lead line), or ""."""
+    common = entry["messages"].most_common(1)
+    return common[0][0] if common else ""
+
+
+def picture_of(entry):
+    """One student's picture of a test's most common failure (relative to the results), or ""."""
+    return entry["pictures"].get(most_common(entry), "")
 
 
 def svg_figure(figure):
@@ -629,8 +642,7 @@ def report_html(rows, tests, maxima, counted, students):
         axes.set_title("The tests the class fails most")
         figures.append(svg_figure(figure))
     def picture_link(entry):
-        message = entry["messages"].most_common(1)[0][0]
-        picture = entry["pictures"].get(message)
+        picture = picture_of(entry)
         return f'<a href="{html.escape(picture)}">picture</a>' if picture else ""
 
     table = "".join(

@@ -3,12 +3,13 @@
 
     /usr/bin/python3 tests/grader/test_class.py WORK_FOLDER [Case.test ...]
 
-A class of 21 students is made from the project's own material (the reference solutions, the
-stubs, every mutant of three tasks, one of propagate, the hostile files and a mix) and written in
+A class of 22 students is made from the project's own material (the reference solutions, the
+stubs, every mutant of three tasks, one of propagate twice, the hostile files and a mix) and written in
 each layout the class grader reads. It is graded in those three tasks (the cheapest to grade;
 every step of the grading is the same for the others) and propagate (whose failures draw their
 case) on a Dask LocalCluster of two worker processes that the test starts, interrupted part-way
-and resumed, and compared with grading each student alone.
+and resumed, graded again with a worker killed part-way, and compared with grading each student
+alone.
 """
 
 import json
@@ -48,7 +49,7 @@ def run(command, **options):
 
 
 def the_class():
-    """{student: {file name: bytes}}: 21 students' files for the graded tasks."""
+    """{student: {file name: bytes}}: 22 students' files for the graded tasks."""
     def files(**sources):
         return {TASK_FILE[task]: path.read_bytes() if isinstance(path, Path) else path
                 for task, path in sources.items()}
@@ -61,9 +62,10 @@ def the_class():
             students[f"{task}-{mutant.stem}"] = files(**{**reference, task: mutant_source(mutant).encode()})
     drawn = mutant_source(REPO / "tests" / "mutants" / DRAWN / f"{DRAWN_MUTANT}.mutant").encode()
     students[f"{DRAWN}-{DRAWN_MUTANT}"] = files(**{**reference, DRAWN: drawn})
+    students[f"{DRAWN}-{DRAWN_MUTANT}-too"] = files(**{**reference, DRAWN: drawn})  # graded once, copied
     mutant = sorted((REPO / "tests" / "mutants" / "kinetic_energy").glob("*.mutant"))[0]
     students["mixed"] = files(init_velocities=reference["init_velocities"], visualize_table=stubs["visualize_table"],
-                              kinetic_energy=mutant_source(mutant).encode())
+                              kinetic_energy=mutant_source(mutant).encode(), propagate=reference[DRAWN])
     return students
 
 
@@ -210,11 +212,21 @@ class OnACluster(unittest.TestCase):
             points = gradebook(results)
             self.assertEqual(sorted(points), sorted(students))
 
-            # The same class in the other layouts, graded on the same cluster: the same points.
+            # The same class in the other layouts, graded on the same cluster: the same points. In
+            # the last one a worker is killed part-way: Dask starts it again and grades its student
+            # elsewhere, and the class is graded all the same.
             for layout in ["gradescope", "autolab", "classroom"]:
                 names = write_layout(layout, students, WORK / f"class-{layout}")
                 source = next((WORK / f"class-{layout}").iterdir()) if layout == "gradescope" else WORK / f"class-{layout}"
-                status, output = run_class(source, WORK / f"results-{layout}", "--client", cluster.scheduler_address)
+                shutil.rmtree(WORK / f"results-{layout}", ignore_errors=True)
+                if layout == "classroom":
+                    process = run_class(source, WORK / f"results-{layout}", "--client", cluster.scheduler_address,
+                                        wait=False)
+                    self.kill_a_worker_once_grading(cluster, WORK / f"results-{layout}" / "students", process)
+                    output = process.communicate(timeout=1800)[0]
+                    status = process.returncode
+                else:
+                    status, output = run_class(source, WORK / f"results-{layout}", "--client", cluster.scheduler_address)
                 self.assertEqual(status, 0, output[-5000:])
                 self.assertEqual({names[name]: value for name, value in gradebook(WORK / f"results-{layout}").items()},
                                  points, layout)
@@ -255,18 +267,35 @@ class OnACluster(unittest.TestCase):
         page = (results / "report.html").read_text()
         self.assertEqual(page.count("<svg"), 3)
         self.assertIn("What to teach again", page)
-        # The student whose propagate fails: the pictures of their failing cases, in their results
-        # and in their own report, and linked from the class report (once per most-failed test).
-        drawn = results / "students" / f"{DRAWN}-{DRAWN_MUTANT}"
-        pictures = sorted(path.name for path in (drawn / "pictures").glob("*.svg"))
-        self.assertTrue(pictures, "the failing propagate tests drew nothing")
-        own = json.loads((drawn / "results.json").read_text())
-        self.assertEqual(len([t for t in own["tests"] if t.get("output_format") == "html"]), len(pictures))
-        self.assertEqual((drawn / "report.html").read_text().count("data:image/svg+xml;base64,"), len(pictures))
-        links = re.findall(r'href="(students/[^"]+\.svg)"', page)
-        self.assertTrue(links, "the class report links no picture")
+        # The students whose propagate fails (one graded, one copied): the pictures of their failing
+        # cases, in their results and their own reports; tests.csv links one for each test they
+        # fail most commonly, and so does the class report for those among the most-failed tests.
+        for student in [f"{DRAWN}-{DRAWN_MUTANT}", f"{DRAWN}-{DRAWN_MUTANT}-too"]:
+            drawn = results / "students" / student
+            pictures = sorted(path.name for path in (drawn / "pictures").glob("*.svg"))
+            self.assertTrue(pictures, f"{student}: the failing propagate tests drew nothing")
+            own = json.loads((drawn / "results.json").read_text())
+            self.assertEqual(len([t for t in own["tests"] if t.get("output_format") == "html"]), len(pictures))
+            self.assertEqual((drawn / "report.html").read_text().count("data:image/svg+xml;base64,"), len(pictures))
+        import csv
+        with open(results / "tests.csv") as file:
+            rows = list(csv.DictReader(file))
+        linked = [row for row in rows if row["task"] == DRAWN and row["picture"]]
+        self.assertTrue(linked, "tests.csv links no picture of a failing propagate test")
+        links = [row["picture"] for row in rows if row["picture"]] + re.findall(r'href="(students/[^"]+\.svg)"', page)
         self.assertTrue(all((results / link).is_file() for link in links), links)
         self.check_drawn(results / "report.html")
+
+    def kill_a_worker_once_grading(self, cluster, records, process):
+        """Kills (SIGKILL) one of the cluster's worker processes once the run has saved a student."""
+        from distributed import Client
+        deadline = time.monotonic() + 900
+        while time.monotonic() < deadline and process.poll() is None and not list(records.glob("*/records/*.json")):
+            time.sleep(0.2)
+        self.assertIsNone(process.poll(), "the run ended before a worker could be killed")
+        with Client(cluster.scheduler_address, timeout=30) as client:
+            pids = client.run(os.getpid)
+        os.kill(next(iter(pids.values())), signal.SIGKILL)
 
     def check_drawn(self, page):
         """Opens the page in Debian's headless chromium and checks what it draws: the figures'
