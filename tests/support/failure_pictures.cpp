@@ -1,6 +1,7 @@
 #include "support/failure_pictures.hpp"
 
 #include "billiard/table_svg.hpp"
+#include "support/json_text.hpp"
 #include "support/student_messages.hpp"
 
 #include <gtest/gtest.h>
@@ -117,21 +118,6 @@ std::string number(double value) {
   out.precision(17);
   out << value;
   return out.str();
-}
-
-std::string json_string(std::string_view text) {
-  std::string result = "\"";
-  for (const char c : text) {
-    if (c == '"' || c == '\\') {
-      result += '\\';
-      result += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      result += ' ';
-    } else {
-      result += c;
-    }
-  }
-  return result + "\"";
 }
 
 std::string json_rows(const Eigen::Matrix<double, Eigen::Dynamic, 2>& rows) {

@@ -59,6 +59,21 @@ std::map<std::pair<std::string, int>, std::array<double, 2>> circles_of(const fs
   return found;
 }
 
+// One circle at (x, y) with velocity (vx, vy).
+struct OneCircle {
+  Coordinates c = Coordinates(1, 2);
+  Velocities v = Velocities(1, 2);
+  OneCircle(double x, double y, double vx, double vy) {
+    c << x, y;
+    v << vx, vy;
+  }
+};
+
+std::string text_of(const fs::path& file) {
+  std::ifstream in(file);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
 TEST_F(Pictures, ADifferentEventIsDrawnWithBothAccountsAtTheirPlaces) {
   // Head-on: the circles touch at (-1, 0) and (1, 0) after time 4. A "student" step that says
   // circle 0 hits the wall after time 9 instead, at (9, 0).
@@ -85,8 +100,7 @@ TEST_F(Pictures, ADifferentEventIsDrawnWithBothAccountsAtTheirPlaces) {
   near({"expected", 1}, 1, 0);
   near({"yours", 0}, 9, 0);  // where the student's code put circle 0
   EXPECT_FALSE(drawn.count({"yours", 1}));  // different event times: no bystanders drawn
-  std::ifstream in(file());
-  const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string svg = text_of(file());
   EXPECT_NE(svg.find("circles 0 and 1 collide after time 4"), std::string::npos);
   EXPECT_NE(svg.find("circle 0 hits the table's wall after time 9"), std::string::npos);
 }
@@ -94,10 +108,9 @@ TEST_F(Pictures, ADifferentEventIsDrawnWithBothAccountsAtTheirPlaces) {
 TEST_F(Pictures, TheFirstStepThatLeavesTheExpectedRunIsDrawnNotTheLast) {
   // Twenty correct steps of a lone circle, then a wrong one, then more correct ones: the
   // picture shows call 21 (the failure is only found later).
-  Coordinates c(1, 2);
-  Velocities v(1, 2);
-  c << 0, 3;
-  v << 1, 0.3;
+  OneCircle one(0, 3, 1, 0.3);
+  Coordinates& c = one.c;
+  Velocities& v = one.v;
   for (int k = 1; k <= 30; ++k) {
     recorded_step(table_board(6, 1), c, v, [&] {
       const Collision event = oracle_propagate(6, 1, c, v);
@@ -106,20 +119,17 @@ TEST_F(Pictures, TheFirstStepThatLeavesTheExpectedRunIsDrawnNotTheLast) {
     });
   }
   explain("a constant chord time", "it changed", "a hint");
-  std::ifstream in(file());
-  const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string svg = text_of(file());
   EXPECT_NE(svg.find("propagate call 21 of 30 in this test: the first where"), std::string::npos);
 }
 
 TEST_F(Pictures, WithoutADifferenceTheLastStepIsDrawn) {
-  Coordinates c(1, 2);
-  Velocities v(1, 2);
-  c << 0, 0;
-  v << 1, 0;
+  OneCircle one(0, 0, 1, 0);
+  Coordinates& c = one.c;
+  Velocities& v = one.v;
   for (int k = 0; k < 3; ++k) recorded_step(table_board(10, 1), c, v, [&] { return oracle_propagate(10, 1, c, v); });
   explain("something the event does not show", "something else", "a hint");
-  std::ifstream in(file());
-  const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string svg = text_of(file());
   EXPECT_NE(svg.find("propagate call 3 of 3 in this test, the last before the failure"), std::string::npos);
 }
 
@@ -146,10 +156,9 @@ TEST_F(Pictures, AnOldPictureGoesWhenItsTestRunsAgain) {
 
 TEST(PicturesOff, NothingIsWrittenWithoutTheVariable) {
   ::unsetenv("BILLIARD_PICTURES");
-  Coordinates c(1, 2);
-  Velocities v(1, 2);
-  c << 0, 0;
-  v << 1, 0;
+  OneCircle one(0, 0, 1, 0);
+  Coordinates& c = one.c;
+  Velocities& v = one.v;
   recorded_step(table_board(10, 1), c, v, [&] { return Collision{1, 0, kWall}; });
   EXPECT_EQ(explain("a", "b", "c").find("Picture:"), std::string::npos);
 }

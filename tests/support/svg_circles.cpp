@@ -3,30 +3,12 @@
 // the centre and radius in the root's user coordinates (transforms applied). The grader's tests
 // read the pictures of failing cases back with it. Exit status 1 and the reader's message on
 // standard error for a file the reader refuses.
+#include "support/json_text.hpp"
 #include "support/svg_reader.hpp"
 
 #include <cstdio>
 #include <iostream>
 #include <string>
-
-namespace {
-
-std::string json_string(const std::string& text) {
-  std::string result = "\"";
-  for (const char c : text) {
-    if (c == '"' || c == '\\') {
-      result += '\\';
-      result += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      result += ' ';
-    } else {
-      result += c;
-    }
-  }
-  return result + "\"";
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   if (argc != 2) {
@@ -41,7 +23,7 @@ int main(int argc, char** argv) {
                 << ", \"attributes\": {";
       bool first = true;
       for (const auto& [name, value] : circle->attributes) {
-        std::cout << (first ? "" : ", ") << json_string(name) << ": " << json_string(value);
+        std::cout << (first ? "" : ", ") << billiard::testing::json_string(name) << ": " << billiard::testing::json_string(value);
         first = false;
       }
       std::cout << "}}\n";
