@@ -1,5 +1,6 @@
 #include "billiard/table_svg.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <stdexcept>
