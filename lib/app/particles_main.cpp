@@ -5,6 +5,7 @@
 #include "cli_text.hpp"
 
 #include "billiard/engine/simulation.hpp"
+#include "billiard/limits.hpp"
 
 #include <cmath>
 #include <cstdint>
@@ -28,8 +29,7 @@ using billiard_cli::thousands;
 // per second here) and no number overflows.
 constexpr long long kMaxParticles = 1000000;
 constexpr std::int64_t kMaxCollisions = 20000000;
-constexpr double kLargest = 1e50;          // coordinates, lengths, speeds, END_TIME
-constexpr double kRelativeRadius = 1e-6;   // radius >= 1e-6 max(Lx, Ly): the engine's precision
+using billiard::limits::kRelativeRadius;   // radius >= 1e-6 max(Lx, Ly): the engine's precision
 constexpr std::int64_t kEventsPerChunk = 1 << 16;  // events logged between two tallies
 
 std::string help() {
@@ -122,7 +122,7 @@ class Reader {
       fail(line, text(name, " must be a decimal number, got ", in_quotes(word), " (nan and inf are not accepted)"));
     }
     const double value = std::strtod(word.c_str(), nullptr);
-    if (!(std::abs(value) <= kLargest)) fail(line, text(name, " must be at most 1e50 in magnitude, got ", in_quotes(word)));
+    if (!billiard::limits::bounded(value)) fail(line, text(name, " ", billiard::limits::kMustBeBounded, ", got ", in_quotes(word)));
     return value;
   }
 
@@ -270,7 +270,7 @@ Options parse(int argc, char** argv) {
   options.file = positional[0];
   const std::string& end = positional[1];
   const double value = decimal_syntax(end) ? std::strtod(end.c_str(), nullptr) : std::nan("");
-  if (!(value >= 0 && value <= kLargest)) {
+  if (!(value >= 0 && billiard::limits::bounded(value))) {
     throw BadInput(text("END_TIME must be a number from 0 to 1e50, got ", in_quotes(end), " (", kUsage, ")"));
   }
   options.end_time = value;

@@ -1,6 +1,7 @@
 #include "billiard/argument_checks.hpp"
 
 #include "billiard/engine/wall.hpp"
+#include "billiard/limits.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -19,16 +20,13 @@ template <typename... Parts>
   throw std::invalid_argument(message.str());
 }
 
-// The course functions square lengths and speeds and multiply them: beyond 1e50 (or below 1e-50
-// for a radius) the products overflow or underflow and the results are garbage (circles placed
-// outside a table of radius 1e300, say).
-constexpr double kLargest = 1e50;
-
+// The numbers the course functions accept (billiard/limits.hpp): beyond them the squares and
+// products overflow or underflow (circles placed outside a table of radius 1e300, say).
 void positive_finite(double value, std::string_view name) {
-  if (!(std::isfinite(value) && value >= 1 / kLargest && value <= kLargest)) {
-    fail(name, " = ", value, ": must be a positive, finite number in [1e-50, 1e50]");
-  }
+  if (!limits::in_scale(value)) fail(name, " = ", value, ": ", limits::kMustBeInScale);
 }
+
+bool bounded(double x, double y) { return limits::bounded(x) && limits::bounded(y); }
 
 }  // namespace
 
@@ -50,8 +48,8 @@ void rows(const Eigen::Matrix<double, Eigen::Dynamic, 2>& rows, int n, std::stri
   count(n);
   if (rows.rows() != n) fail(name, " has ", rows.rows(), " rows: expected one row per circle, n = ", n);
   for (Eigen::Index i = 0; i < rows.rows(); ++i) {
-    if (!rows.row(i).allFinite() || rows.row(i).cwiseAbs().maxCoeff() > kLargest) {  // (maxCoeff may skip a nan)
-      fail(name, " row ", i, " = (", rows(i, 0), ", ", rows(i, 1), "): must be finite numbers, at most 1e50 in magnitude");
+    if (!bounded(rows(i, 0), rows(i, 1))) {
+      fail(name, " row ", i, " = (", rows(i, 0), ", ", rows(i, 1), "): ", limits::kMustBeBounded);
     }
   }
 }
@@ -77,9 +75,7 @@ void placement(double table_radius, double circle_radius, const Coordinates& coo
 }
 
 void vector(const Vector& value, std::string_view name) {
-  if (!value.allFinite() || value.cwiseAbs().maxCoeff() > kLargest) {
-    fail(name, " = (", value(0), ", ", value(1), "): must be finite numbers, at most 1e50 in magnitude");
-  }
+  if (!bounded(value(0), value(1))) fail(name, " = (", value(0), ", ", value(1), "): ", limits::kMustBeBounded);
 }
 
 void walls(double table_radius, const std::vector<Wall>& walls) {

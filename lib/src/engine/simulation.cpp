@@ -3,6 +3,7 @@
 #include "billiard/engine/simulation.hpp"
 
 #include "billiard/engine/replay.hpp"
+#include "billiard/limits.hpp"
 #include "describe.hpp"
 #include "engine.hpp"
 
@@ -20,21 +21,14 @@ std::string vec(const Vec2& v) { return "(" + number(v.x()) + ", " + number(v.y(
 
 [[noreturn]] void refuse(const std::string& message) { throw std::invalid_argument(message); }
 
-// The engine squares and multiplies the user's numbers (times of impact, impulses): beyond these
-// magnitudes the products overflow or underflow and the dynamics turns to nan (see
-// simulation.hpp). Both tests are false for nan and infinities.
-constexpr double kLargest = 1e50;    // coordinates, lengths, speeds, accelerations, spins
-constexpr double kSmallest = 1e-50;  // radii, masses and moments of inertia are at least this
-const char* const kBounded = "must be finite and at most 1e50 in magnitude";
-const char* const kScale = "must be positive and finite, in [1e-50, 1e50]";
-bool bounded(double x) { return std::abs(x) <= kLargest; }
+// The numbers the engine accepts (billiard/limits.hpp, shared with the course and the commands).
+using limits::bounded;
+using limits::in_scale;
+using limits::kRelativeRadius;
+using limits::kSmallest;
+const char* const kBounded = limits::kMustBeBounded;
+const char* const kScale = limits::kMustBeInScale;
 bool bounded(const Vec2& v) { return bounded(v.x()) && bounded(v.y()); }
-bool in_scale(double x) { return x >= kSmallest && x <= kLargest; }
-
-// Positions are computed to about 1e-16 of the coordinates, and validate() allows overlaps of
-// 1e-9 radius: a disc smaller than this fraction of the coordinates it moves among would overlap
-// discs and cross walls by rounding alone (far smaller, it escapes through the walls).
-constexpr double kRelativeRadius = 1e-6;
 
 void require_setup(const Simulation::Engine& e, const char* call) {
   if (e.prepared) {
