@@ -8,6 +8,7 @@
 //    an untouched copy;
 //  - a call that is valid, however extreme, returns quickly and leaves a valid simulation whose
 //    discs stay finite as it advances.
+#include "billiard/engine/replay.hpp"
 #include "billiard/engine/simulation.hpp"
 #include "helpers.hpp"
 
@@ -459,7 +460,7 @@ Call bad_call(Rng& rng, const Start& start) {
     case 14: {
       const std::size_t size = sim.event_log().size();
       const std::size_t k = pick(rng, std::vector<std::size_t>{size, size + 1, SIZE_MAX, std::size_t{1} << 40, static_cast<std::size_t>(-1) / 2});
-      return refused("replay_after_event(" + std::to_string(k) + ")", {"k must"}, [k](const Simulation& s) { s.replay_after_event(k); }, false);
+      return refused("Replay::after_event(" + std::to_string(k) + ")", {"k must"}, [k](const Simulation& s) { billiard::Replay(s).after_event(k); }, false);
     }
     case 16: {
       const double value = bad_nonnegative(rng);
@@ -473,7 +474,7 @@ Call bad_call(Rng& rng, const Start& start) {
     }
     case 15: {
       const double t = pick(rng, std::vector<double>{kNan, kInf, -kInf, -1.0, -kDenormal, -1e308});
-      return refused("replay_at(" + show(t) + ")", {"t must"}, [t](const Simulation& s) { s.replay_at(t); }, false);
+      return refused("Replay::at(" + show(t) + ")", {"t must"}, [t](const Simulation& s) { billiard::Replay(s).at(t); }, false);
     }
     default: {
       const double tolerance = bad_nonnegative(rng);

@@ -1,6 +1,7 @@
 // The public API: bad input refused with std::invalid_argument naming the disc and the value
 // (state unchanged after a refused call), advancing by events or duration, the event log and
 // its replays, N = 0 and N = 1.
+#include "billiard/engine/replay.hpp"
 #include "billiard/engine/simulation.hpp"
 #include "helpers.hpp"
 
@@ -167,18 +168,18 @@ TEST(Api, ReplayReproducesTheRunByEventAndAtFixedTimeSteps) {
   sim.advance(billiard::kAllEvents, 0.25);
   const billiard::State later = sim.current_state();
   // By event: the last logged event is the 500th collision.
-  const billiard::State replayed = sim.replay_after_event(499);
+  const billiard::State replayed = billiard::Replay(sim).after_event(499);
   EXPECT_DOUBLE_EQ(replayed.time, after500.time);
   EXPECT_LT((replayed.positions - after500.positions).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_LT((replayed.velocities - after500.velocities).cwiseAbs().maxCoeff(), 1e-12);
   // At fixed time steps: t = 0 is the initial state, and the current time matches the live run.
-  const billiard::State zero = sim.replay_at(0.0);
+  const billiard::State zero = billiard::Replay(sim).at(0.0);
   EXPECT_EQ(zero.positions, start.positions);
-  const billiard::State at_end = sim.replay_at(later.time);
+  const billiard::State at_end = billiard::Replay(sim).at(later.time);
   EXPECT_LT((at_end.positions - later.positions).cwiseAbs().maxCoeff(), 1e-12);
   // Replay at steps of 0.1 never shows an overlap (a disc replayed correctly between events).
   for (double t = 0; t < later.time; t += 0.1) {
-    const billiard::State s = sim.replay_at(t);
+    const billiard::State s = billiard::Replay(sim).at(t);
     for (int i = 0; i < s.positions.rows(); ++i) {
       for (int j = i + 1; j < s.positions.rows(); ++j) {
         const double d = (s.positions.row(i) - s.positions.row(j)).norm();

@@ -2,7 +2,6 @@
 // The event loop itself is in engine.cpp.
 #include "billiard/engine/simulation.hpp"
 
-#include "billiard/engine/replay.hpp"
 #include "billiard/limits.hpp"
 #include "describe.hpp"
 #include "engine.hpp"
@@ -895,18 +894,6 @@ int Simulation::cell_count() const { return engine_->prepared ? engine_->grid.nx
 void Simulation::enable_event_log(bool on) { engine_->logging = on; }
 void Simulation::clear_event_log() { engine_->log.clear(); }
 const std::vector<EventRecord>& Simulation::event_log() const { return engine_->log; }
-
-// Replays rebuild states from the initial state and the log (billiard/engine/replay.hpp).
-State Simulation::replay_after_event(std::size_t k) const {
-  const Engine& e = *engine_;
-  if (k >= e.log.size()) refuse("replay_after_event: k must be < the log size " + std::to_string(e.log.size()) + ", got " + std::to_string(k));
-  return Replay(*this).after_event(k);
-}
-
-State Simulation::replay_at(double t) const {
-  if (!std::isfinite(t) || t < initial_state().time) refuse("replay_at: t must be finite and >= the initial time " + number(initial_state().time) + ", got " + number(t));
-  return Replay(*this).at(t);
-}
 
 std::string Simulation::validate(double tolerance) {
   if (!(tolerance >= 0) || !std::isfinite(tolerance)) refuse("validate: tolerance must be >= 0 and finite, got " + number(tolerance));

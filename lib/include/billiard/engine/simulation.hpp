@@ -220,15 +220,10 @@ class Simulation {
   double table_radius() const;        // radius of the circular table; 0 if none
   int cell_count() const;             // cells of the grid (0 before the first advance)
 
-  // ---- Event log and replay ----
+  // ---- Event log (replayed by billiard::Replay, replay.hpp) ----
   void enable_event_log(bool on);
   void clear_event_log();
   const std::vector<EventRecord>& event_log() const;
-  // State just after logged event k (0-based), rebuilt from initial_state() and the log (the log
-  // must have been enabled from the first advance on).
-  State replay_after_event(std::size_t k) const;
-  // State at time t, rebuilt the same way (fixed-time-step replays call it for t = 0, dt, ...).
-  State replay_at(double t) const;
 
   // ---- Checks ----
   // Returns "" if every disc is inside its container, no two discs overlap by more than
