@@ -10,8 +10,8 @@
 // logged position and velocity (and whether it fell asleep there) fix it. Each step costs
 // O(discs touched) to apply the events plus O(N) to produce the state: a whole replay is linear
 // in its length (a new Replay for every k would be quadratic). The log must have been enabled
-// from the first advance() on, and the simulation must outlive the Replay (it reads the log as it goes, so a
-// run advanced further while replaying is followed too).
+// from the first advance() on, and the simulation must outlive the Replay (it reads the log as
+// it goes, so a run advanced further while replaying is followed too).
 #pragma once
 
 #include "billiard/engine/disc.hpp"
