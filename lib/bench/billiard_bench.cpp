@@ -83,8 +83,7 @@ void granular_settling(const std::string& container, long n, double restitution,
     std::printf(" %10.0f", static_cast<double>(r.collisions) / (duration / 4) / static_cast<double>(n));
     if (r.stuck) std::fprintf(stderr, "warning: %s\n", r.stuck_reason.c_str());
   }
-  const std::string problem = sim.validate();
-  if (!problem.empty()) std::fprintf(stderr, "validation failed: %s\n", problem.c_str());
+  if (const auto problem = sim.validate()) std::fprintf(stderr, "validation failed: %s\n", problem->c_str());
   std::printf(" %14.0f %12.0f\n", collisions / (now_seconds() - start), collisions);
   std::fflush(stdout);
 }
@@ -427,8 +426,7 @@ int run(int argc, char** argv) {
         }
       }
       for (Timed& t : systems) {
-        const std::string problem = t.sim.validate();
-        if (!problem.empty()) std::fprintf(stderr, "validation failed: %s\n", problem.c_str());
+        if (const auto problem = t.sim.validate()) std::fprintf(stderr, "validation failed: %s\n", problem->c_str());
         Row row{"engine", t.container, n, t.density, g != 0 ? 1 : 0, median(t.rates),
                 t.crossings / std::max(t.collisions, 1.0), t.stale / std::max(t.collisions, 1.0),
                 t.sim.memory_bytes() / static_cast<double>(n), t.setup};

@@ -283,7 +283,7 @@ mass (n,), radius (n,), inertia (n,). Bad input raises ValueError naming the dis
       .def("potential_energy", &Simulation::potential_energy, "-sum m g.r.")
       .def("memory_bytes", &Simulation::memory_bytes, "Memory held by the engine, in bytes.")
       .def("validate", &Simulation::validate, py::arg("tolerance") = 1e-9,
-           "'' if no two discs overlap beyond tolerance x radius and all are inside; else the first problem.")
+           "None if no two discs overlap beyond tolerance x radius and all are inside; else the first problem.")
       .def_property_readonly(
           "walls",
           [](const Simulation& s) {

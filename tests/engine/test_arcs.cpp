@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -184,7 +185,7 @@ billiard::EventRecord first_event(billiard::Simulation& sim) {
   sim.enable_event_log(true);
   const billiard::AdvanceResult result = sim.advance(1);
   EXPECT_EQ(result.collisions, 1);
-  EXPECT_EQ(sim.validate(), "");
+  EXPECT_EQ(sim.validate(), std::nullopt);
   return sim.event_log().empty() ? billiard::EventRecord{} : sim.event_log().back();
 }
 
@@ -272,7 +273,7 @@ TEST(ArcWall, DiscsInsideAFreeRingStayInsideItUnderGravity) {
   for (int k = 0; k < 6; ++k) sim.add_disc(make_disc(Vec2(3 + 1.2 * (k - 2.5), 2 + 0.3 * k), Vec2(std::cos(k), std::sin(k)), 0.4));
   const double energy = sim.kinetic_energy() + sim.potential_energy();
   sim.advance(20000);
-  EXPECT_EQ(sim.validate(), "");
+  EXPECT_EQ(sim.validate(), std::nullopt);
   const billiard::State s = sim.current_state();
   for (Eigen::Index i = 0; i < s.positions.rows(); ++i) {
     EXPECT_LE((Vec2(s.positions.row(i).transpose()) - Vec2(3, 2)).norm(), 5 - 0.4 + 1e-9);
@@ -293,9 +294,9 @@ double long_run(billiard::Simulation& sim, std::int64_t events, std::int64_t blo
   for (std::int64_t done = 0; done < events;) {
     const billiard::AdvanceResult result = sim.advance(std::min(block, events - done));
     EXPECT_FALSE(result.stuck) << result.stuck_reason;
-    EXPECT_EQ(sim.last_problem(), "") << "after " << done << " collisions";
-    EXPECT_EQ(sim.validate(), "") << "after " << done << " collisions";
-    if (result.collisions == 0 || !sim.last_problem().empty()) return kNever;
+    EXPECT_EQ(sim.last_problem(), std::nullopt) << "after " << done << " collisions";
+    EXPECT_EQ(sim.validate(), std::nullopt) << "after " << done << " collisions";
+    if (result.collisions == 0 || sim.last_problem().has_value()) return kNever;
     done += result.collisions;
   }
   const double error = std::abs(sim.kinetic_energy() + sim.potential_energy() - e0) / std::abs(e0);
@@ -472,7 +473,7 @@ TEST(CurvedContainer, BadArgumentsAreRefusedNamingTheArgumentAndLeaveTheStateUnc
   expect_refused(periodic, [&] { periodic.add_stadium(Vec2(5, 5), 1, 1); }, "periodic");
   // The simulation still runs.
   EXPECT_EQ(sim.advance(3).collisions, 3);
-  EXPECT_EQ(sim.validate(), "");
+  EXPECT_EQ(sim.validate(), std::nullopt);
 }
 
 TEST(ArcWall, FreeArcsUnderGravityWithDiscsPassingTheirGaps) {
@@ -490,7 +491,7 @@ TEST(ArcWall, FreeArcsUnderGravityWithDiscsPassingTheirGaps) {
   sim.set_validate_every_event(true);
   sim.enable_event_log(true);
   const billiard::AdvanceResult result = sim.advance(20000);
-  EXPECT_EQ(sim.last_problem(), "");
+  EXPECT_EQ(sim.last_problem(), std::nullopt);
   EXPECT_FALSE(result.stuck) << result.stuck_reason;
   EXPECT_EQ(result.collisions, 20000);
   EXPECT_NEAR(sim.kinetic_energy() + sim.potential_energy(), energy, 1e-10 * std::abs(energy));

@@ -181,14 +181,14 @@ void settles_to_a_packed_bed(const Settling p) {
   while (sim.time() < 200) {
     const billiard::AdvanceResult r = sim.advance(kAllEvents, 1.0);
     ASSERT_FALSE(r.stuck) << r.stuck_reason;
-    ASSERT_EQ(sim.last_problem(), "") << "at time " << sim.time();
+    ASSERT_EQ(sim.last_problem(), std::nullopt) << "at time " << sim.time();
     const double now = total_energy(sim);
     ASSERT_LE(now, energy + tolerance) << "the total energy rose at time " << sim.time();
     energy = now;
     collisions.push_back(r.collisions);
   }
   EXPECT_NEAR(sim.time(), 200.0, 1e-9);
-  EXPECT_EQ(sim.validate(), "");
+  EXPECT_EQ(sim.validate(), std::nullopt);
   // Asleep: no collisions in the last 50 time units, every disc still.
   std::int64_t last = 0;
   for (int t = 150; t < 200; ++t) last += collisions[static_cast<std::size_t>(t)];
@@ -251,8 +251,8 @@ TEST(Granular, FreelyCoolingDenseGasReaches100CollisionsPerDiscValid) {
   while (2 * disc_collisions < 100LL * n) {
     const billiard::AdvanceResult r = sim.advance(50000);
     ASSERT_FALSE(r.stuck) << r.stuck_reason;
-    ASSERT_EQ(sim.last_problem(), "");
-    ASSERT_EQ(sim.validate(), "");
+    ASSERT_EQ(sim.last_problem(), std::nullopt);
+    ASSERT_EQ(sim.validate(), std::nullopt);
     ASSERT_LE(sim.kinetic_energy(), energy * (1 + 1e-12));
     energy = sim.kinetic_energy();
     disc_collisions += r.disc_collisions;
@@ -309,7 +309,7 @@ TEST(Granular, ThreeDiscCollapseInANarrowChannel) {
   billiard::Simulation sim;
   const std::vector<double> handled = three_disc_channel(std::nullopt, sim);
   EXPECT_LE(handled.size(), 20u);
-  EXPECT_EQ(sim.validate(), "");
+  EXPECT_EQ(sim.validate(), std::nullopt);
   const billiard::State s = sim.current_state();
   EXPECT_NEAR(s.velocities.col(0).sum(), 1.0, 1e-12);
   EXPECT_LE(sim.kinetic_energy(), 0.5);
@@ -340,10 +340,10 @@ TEST(Granular, StuckRunLeavesAValidStateAndSaysWhy) {
   const billiard::AdvanceResult r = sim.advance(kAllEvents, 50.0);
   ASSERT_TRUE(r.stuck) << "expected the collapse to stop the run";
   EXPECT_NE(r.stuck_reason.find("stuck at time"), std::string::npos) << r.stuck_reason;
-  EXPECT_EQ(sim.validate(), "");
+  EXPECT_EQ(sim.validate(), std::nullopt);
   for (int again = 0; again < 3; ++again) {
     const billiard::AdvanceResult next = sim.advance(kAllEvents, 50.0);
-    EXPECT_EQ(sim.validate(), "") << "after advance number " << again + 2;
+    EXPECT_EQ(sim.validate(), std::nullopt) << "after advance number " << again + 2;
     EXPECT_EQ(next.stuck, !next.stuck_reason.empty());
   }
 }
@@ -358,7 +358,7 @@ TEST(Granular, ShortAdvancesStopStuckLikeOneLongAdvance) {
     stuck = sim.advance(100, 50.0 - sim.time()).stuck;
   }
   EXPECT_TRUE(stuck) << "time " << sim.time();
-  EXPECT_EQ(sim.validate(), "");
+  EXPECT_EQ(sim.validate(), std::nullopt);
 }
 
 TEST(Granular, StoppingAndGoingOnChangesNothing) {
@@ -384,5 +384,5 @@ TEST(Granular, StoppingAndGoingOnChangesNothing) {
   EXPECT_EQ(pieces.totals().disc_collisions, whole.totals().disc_collisions);
   EXPECT_TRUE(pieces.current_state().positions == whole.current_state().positions);
   EXPECT_TRUE(pieces.current_state().velocities == whole.current_state().velocities);
-  EXPECT_EQ(pieces.validate(), "");
+  EXPECT_EQ(pieces.validate(), std::nullopt);
 }

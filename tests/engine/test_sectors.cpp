@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -110,7 +111,7 @@ TEST(Sectors, ThreeDiscsTouchingAtOnce) {
   sim.enable_event_log(true);
   sim.set_validate_every_event(true);
   sim.advance(billiard::kAllEvents, 5.0);
-  EXPECT_EQ(sim.last_problem(), "");
+  EXPECT_EQ(sim.last_problem(), std::nullopt);
   ASSERT_EQ(sim.event_log().size(), 3u);
   for (const auto& e : sim.event_log()) EXPECT_DOUBLE_EQ(e.time, 1.0);
   const billiard::State s = sim.current_state();
@@ -137,8 +138,8 @@ TEST(Sectors, LowAndHighDensityRunsStayValid) {
     sim.add_discs(positions, velocities, 1.0);
     sim.set_check_event_discs(true);
     for (int round = 0; round < 10; ++round) {
-      ASSERT_EQ(sim.advance(10000).collisions, 10000) << sim.last_problem();
-      ASSERT_EQ(sim.validate(), "") << "area fraction " << fraction;
+      ASSERT_EQ(sim.advance(10000).collisions, 10000) << sim.last_problem().value_or("");
+      ASSERT_EQ(sim.validate(), std::nullopt) << "area fraction " << fraction;
     }
   }
 }
@@ -156,7 +157,7 @@ TEST(Sectors, PrefetchingAheadChangesNoEvent) {
       billiard::Simulation sim = make(::Setup{false, 0.0}, 21, 300, side);
       sim.set_prefetch_ahead(mode);
       sim.set_validate_every_event(mode == billiard::Simulation::Prefetch::On);
-      ASSERT_EQ(sim.advance(20000).collisions, 20000) << sim.last_problem();
+      ASSERT_EQ(sim.advance(20000).collisions, 20000) << sim.last_problem().value_or("");
       logs.push_back(sim.event_log());
     }
     EXPECT_GE(agreeing_prefix(logs[0], logs[1]), 2000u) << "box side " << side;

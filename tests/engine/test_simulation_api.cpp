@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -74,7 +75,7 @@ TEST(Api, BadSettingsAreRefusedAndChangeNothing) {
   EXPECT_EQ(sim.walls().size(), 8u);  // 4 sides + 4 corners
   const auto result = sim.advance(10);
   EXPECT_EQ(result.collisions, 10);
-  EXPECT_EQ(sim.validate(), "");
+  EXPECT_EQ(sim.validate(), std::nullopt);
 }
 
 TEST(Api, AddDiscsIsAllOrNothing) {
@@ -130,7 +131,7 @@ TEST(Api, NoDiscsAndOneDisc) {
   one.set_circular_table(5);
   one.add_disc(make_disc(Vec2(0, 0), Vec2(0, 1)));
   EXPECT_EQ(one.advance(7).collisions, 7);
-  EXPECT_EQ(one.validate(), "");
+  EXPECT_EQ(one.validate(), std::nullopt);
 }
 
 TEST(Api, AdvanceStopsAtEventsOrDurationWhicheverFirst) {
@@ -219,9 +220,9 @@ TEST(Api, CheckingTheEventDiscsFindsNothingInValidRuns) {
     sim.add_random_discs(container == 3 ? 300 : 400, 1.0, 1.0, 1.0, 11);
     sim.set_check_event_discs(true);
     const auto result = sim.advance(30000);
-    EXPECT_EQ(sim.last_problem(), "") << "container " << container;
+    EXPECT_EQ(sim.last_problem(), std::nullopt) << "container " << container;
     EXPECT_EQ(result.collisions, 30000) << "container " << container;
-    EXPECT_EQ(sim.validate(), "") << "container " << container;
+    EXPECT_EQ(sim.validate(), std::nullopt) << "container " << container;
   }
 }
 

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -45,7 +46,7 @@ TEST(Sleeping, DiscAtRestOnAFloorHopsAtTheSlackScale) {
   const double landings = std::floor((duration - period / 2) / period) + 1;
   EXPECT_NEAR(static_cast<double>(r.wall_collisions), landings, 1.0);
   EXPECT_NEAR(total_energy(sim), 1.0, 1e-12);  // potential -m g.r = 1 at height 1, at rest
-  EXPECT_EQ(sim.validate(), "");
+  EXPECT_EQ(sim.validate(), std::nullopt);
 }
 
 TEST(Sleeping, DiscSlidingAlongAFloorReachesTheWall) {
@@ -64,7 +65,7 @@ TEST(Sleeping, DiscSlidingAlongAFloorReachesTheWall) {
     sim.clear_event_log();
   }
   EXPECT_NEAR(hit, 19.0, 1e-6);
-  EXPECT_EQ(sim.validate(), "");
+  EXPECT_EQ(sim.validate(), std::nullopt);
 }
 
 TEST(Sleeping, BouncingDiscComesToRestAndFallsAsleep) {
@@ -89,7 +90,7 @@ TEST(Sleeping, BouncingDiscComesToRestAndFallsAsleep) {
   EXPECT_LE(s.positions(0, 1), 1.1);
   EXPECT_EQ(sim.event_log().back().kind, EventKind::Sleep);
   EXPECT_EQ(sim.advance(kAllEvents, 10.0).collisions, 0);
-  EXPECT_EQ(sim.validate(), "");
+  EXPECT_EQ(sim.validate(), std::nullopt);
 }
 
 namespace {
@@ -130,7 +131,7 @@ TEST(Sleeping, SlowHitBouncesOffASleeperWhichStaysPut) {
   EXPECT_EQ(sim.sleeping_discs(), std::vector<int>{0});
   const Vec2 after = sim.current_state().positions.row(0).transpose();
   EXPECT_EQ(after, rest);
-  EXPECT_EQ(sim.validate(), "");
+  EXPECT_EQ(sim.validate(), std::nullopt);
 }
 
 TEST(Sleeping, FastHitWakesTheSleeper) {
@@ -155,7 +156,7 @@ TEST(Sleeping, FastHitWakesTheSleeper) {
   // Both come to rest again and fall asleep.
   sim.advance(kAllEvents, 20.0);
   EXPECT_EQ(sim.sleeping_discs(), (std::vector<int>{0, 1}));
-  EXPECT_EQ(sim.validate(), "");
+  EXPECT_EQ(sim.validate(), std::nullopt);
 }
 
 TEST(Sleeping, SleepSpeedZeroWakesEveryDiscAndRefusesBadValues) {
@@ -168,7 +169,7 @@ TEST(Sleeping, SleepSpeedZeroWakesEveryDiscAndRefusesBadValues) {
   sim.set_sleep_speed(0.0);
   EXPECT_TRUE(sim.sleeping_discs().empty());
   EXPECT_EQ(sim.event_log().back().kind, EventKind::Wake);
-  EXPECT_EQ(sim.validate(), "");
+  EXPECT_EQ(sim.validate(), std::nullopt);
   // Elastic discs do not sleep by default; no gravity, never.
   billiard::Simulation elastic = one_disc(Vec2(20, 1), Vec2(0, 0), 1.0);
   elastic.advance(10);
@@ -204,7 +205,7 @@ void exactly_filled_box_falls_asleep(double restitution) {
     for (int step = 0; step < 25; ++step) {
       const billiard::AdvanceResult r = sim.advance(kAllEvents, 1.0);
       ASSERT_FALSE(r.stuck) << r.stuck_reason;
-      ASSERT_EQ(sim.last_problem(), "") << "at time " << sim.time();
+      ASSERT_EQ(sim.last_problem(), std::nullopt) << "at time " << sim.time();
       ASSERT_LE(total_energy(sim), energy + tolerance) << "the energy rose at time " << sim.time();
       energy = total_energy(sim);
       collisions += r.collisions;
@@ -214,7 +215,7 @@ void exactly_filled_box_falls_asleep(double restitution) {
   EXPECT_NEAR(sim.time(), 200.0, 1e-9);
   EXPECT_EQ(per_quarter.back(), 0);
   EXPECT_EQ(sim.sleeping_discs().size(), 200u);
-  EXPECT_EQ(sim.validate(), "");
+  EXPECT_EQ(sim.validate(), std::nullopt);
   std::printf("box 40 x 40, 200 discs, e = %.2f: collisions per disc per unit time by quarter:", restitution);
   for (long long rate : per_quarter) std::printf(" %lld", rate);
   std::printf("\n");

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <cmath>
 #include <random>
 
@@ -28,10 +29,10 @@ TEST(StressEngine, HundredMillionCollisionsAtTenThousandDiscs) {
   const double e0 = sim.kinetic_energy();
   for (int round = 0; round < 10; ++round) {
     const auto result = sim.advance(10000000);
-    ASSERT_EQ(sim.last_problem(), "") << "in block " << (round + 1) << " of 10 (10 million collisions each)";
+    ASSERT_EQ(sim.last_problem(), std::nullopt) << "in block " << (round + 1) << " of 10 (10 million collisions each)";
     ASSERT_FALSE(result.stuck);
     ASSERT_EQ(result.collisions, 10000000);
-    ASSERT_EQ(sim.validate(), "") << "after " << (round + 1) << "0 million collisions";
+    ASSERT_EQ(sim.validate(), std::nullopt) << "after " << (round + 1) << "0 million collisions";
   }
   // 10^8 collisions: random walk of ~1e-16 sqrt(10^8) = 1e-12; allow 1e-10 (1e-12 per 10^6).
   EXPECT_NEAR(sim.kinetic_energy(), e0, 1e-10 * e0);

@@ -39,7 +39,7 @@ def test_inelastic_bed_runs_to_the_end_never_gaining_energy(restitution, table):
         assert now <= energy + 1e-12 * abs(energy), f"the energy rose at time {sim.time}"
         energy = now
     assert sim.time == pytest.approx(50)
-    assert sim.validate() == ""
+    assert sim.validate() is None
 
 
 def test_model_values_are_chosen_at_the_first_advance_and_can_be_set():
@@ -69,7 +69,7 @@ def test_bad_model_values_are_refused_naming_the_argument(call, argument, bad):
     with pytest.raises(ValueError, match=argument):
         getattr(sim, call)(bad)
     sim.advance(events=100)
-    assert sim.validate() == ""
+    assert sim.validate() is None
 
 
 def test_a_stuck_run_says_why_and_stays_valid():
@@ -80,9 +80,9 @@ def test_a_stuck_run_says_why_and_stays_valid():
     result = sim.advance(time=50)
     assert result["stuck"]
     assert "stuck at time" in result["stuck_reason"]
-    assert sim.validate() == ""
+    assert sim.validate() is None
     sim.advance(time=50)
-    assert sim.validate() == ""
+    assert sim.validate() is None
 
 
 def test_a_bed_in_a_box_exactly_20_discs_wide_falls_asleep():
@@ -95,7 +95,7 @@ def test_a_bed_in_a_box_exactly_20_discs_wide_falls_asleep():
     assert (sim.current_state["velocity"] == 0).all()
     result = sim.advance(time=10)
     assert result["collisions"] == 0 and sim.time == pytest.approx(110)
-    assert sim.validate() == ""
+    assert sim.validate() is None
 
 
 def test_sleeping_is_in_the_event_log_and_the_replay_keeps_sleepers_still():
@@ -113,4 +113,4 @@ def test_sleeping_is_in_the_event_log_and_the_replay_keeps_sleepers_still():
     sim.set_sleep_speed(0)  # wakes them all
     assert sim.sleeping_discs() == []
     assert billiard.WAKE in set(sim.event_log["kind"].tolist())
-    assert sim.validate() == ""
+    assert sim.validate() is None

@@ -895,15 +895,18 @@ void Simulation::enable_event_log(bool on) { engine_->logging = on; }
 void Simulation::clear_event_log() { engine_->log.clear(); }
 const std::vector<EventRecord>& Simulation::event_log() const { return engine_->log; }
 
-std::string Simulation::validate(double tolerance) {
+std::optional<std::string> Simulation::validate(double tolerance) {
   if (!(tolerance >= 0) || !std::isfinite(tolerance)) refuse("validate: tolerance must be >= 0 and finite, got " + number(tolerance));
   Engine& e = *engine_;
   e.problem = e.check(tolerance);
-  return e.problem;
+  return last_problem();
 }
 
 void Simulation::set_validate_every_event(bool on) { engine_->validate_every_event = on; }
 void Simulation::set_check_event_discs(bool on) { engine_->check_event_discs = on; }
-const std::string& Simulation::last_problem() const { return engine_->problem; }
+std::optional<std::string> Simulation::last_problem() const {
+  if (engine_->problem.empty()) return std::nullopt;
+  return engine_->problem;
+}
 
 }  // namespace billiard

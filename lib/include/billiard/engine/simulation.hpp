@@ -226,10 +226,10 @@ class Simulation {
   const std::vector<EventRecord>& event_log() const;
 
   // ---- Checks ----
-  // Returns "" if every disc is inside its container, no two discs overlap by more than
-  // `tolerance` times the smaller radius, every disc lies in its cell and the queue is in order
-  // and holds every disc's next event; otherwise a description of the first problem found.
-  std::string validate(double tolerance = 1e-9);
+  // No problem (std::nullopt) if every disc is inside its container, no two discs overlap by
+  // more than `tolerance` times the smaller radius, every disc lies in its cell and the queue is
+  // in order and holds every disc's next event; otherwise a description of the first problem.
+  std::optional<std::string> validate(double tolerance = 1e-9);
   // Runs validate() after every event and stops advance() at the first problem (slow, O(N) per
   // event; tests).
   void set_validate_every_event(bool on);
@@ -238,7 +238,8 @@ class Simulation {
   // O(1) per event, for long runs. advance() stops at the first problem. (With
   // set_validate_every_event on as well, the full check runs.)
   void set_check_event_discs(bool on);
-  const std::string& last_problem() const;
+  // The problem that stopped the last advance() (or the last validate()'s), if any.
+  std::optional<std::string> last_problem() const;
 
   struct Engine;  // internals, lib/src/engine/engine.hpp
 
