@@ -18,7 +18,6 @@ struct Collision {
   int wall_hits = 0;
 };
 using Coordinates = int;
-inline constexpr double kWall = 0.5;
 }  // namespace billiard
 
 namespace {
@@ -35,7 +34,7 @@ TEST(Layers, EngineHeadersWorkWithoutTheCourse) {
   ASSERT_EQ(sim.event_log().size(), 1u);
   const billiard::EventRecord& hit = sim.event_log()[0];
   billiard::Collision counted;
-  counted.wall_hits += hit.kind == billiard::EventKind::DiscWall && hit.other == billiard::kWallHit;
+  counted.wall_hits += hit.kind == billiard::EventKind::DiscWall && hit.other == billiard::kWall;
   EXPECT_EQ(counted.wall_hits, 1);
   EXPECT_NEAR(hit.time, 1.0, 1e-12);  // (3 - 1) / 2
 }

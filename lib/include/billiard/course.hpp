@@ -10,6 +10,8 @@
 // ones overflow).
 #pragma once
 
+#include "billiard/wall_hit.hpp"
+
 #include <Eigen/Core>
 
 #include <filesystem>
@@ -20,7 +22,6 @@ namespace billiard {
 using Rng = std::mt19937_64;
 using Coordinates = Eigen::Matrix<double, Eigen::Dynamic, 2>;  // N rows, columns x and y
 using Velocities = Eigen::Matrix<double, Eigen::Dynamic, 2>;
-inline constexpr int kWall = -1;
 struct Collision {
   double time;  // time advanced to reach this collision (>= 0)
   int circle;   // the circle that collided (row index)

@@ -646,7 +646,7 @@ void Simulation::Engine::handle_disc_collision(int i, int j, AdvanceResult& resu
 
 void Simulation::Engine::handle_wall_collision(int i, int wall, AdvanceResult& result) {
   collide_wall(i, wall);
-  if (logging) record(EventKind::DiscWall, i, kWallHit, wall);
+  if (logging) record(EventKind::DiscWall, i, kWall, wall);
   predict_full(i);
   ++result.wall_collisions;
   if (sleep_speed > 0) try_to_sleep(i);

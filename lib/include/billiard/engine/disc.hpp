@@ -2,6 +2,7 @@
 #pragma once
 
 #include "billiard/engine/vec2.hpp"
+#include "billiard/wall_hit.hpp"
 
 #include <Eigen/Core>
 
@@ -36,12 +37,11 @@ struct State {
 // asleep or waking up (see Simulation::set_sleep_speed).
 enum class EventKind : int { DiscDisc, DiscWall, Sleep, Wake };
 
-// One recorded event (the event log). `other` is the second disc; for a wall hit it is kWallHit
+// One recorded event (the event log). `other` is the second disc; for a wall hit it is kWall
 // and `wall` is the wall's index (see Simulation::walls()); for Sleep and Wake it is kNoOther.
 // wall = kNoWall unless a wall was hit. Positions and velocities are those just after the event
 // (at `time`); the other_* fields are zero unless `other` is a disc.
 inline constexpr int kNoWall = -1;
-inline constexpr int kWallHit = -1;  // the same value as the course's kWall, so logs compare to it
 inline constexpr int kNoOther = -2;
 struct EventRecord {
   double time = 0.0;
