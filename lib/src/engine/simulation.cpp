@@ -35,6 +35,11 @@ void require_setup(const Simulation::Engine& e, const char* call) {
   }
 }
 
+// Walls inside a periodic box are not supported: every call that adds a wall says so here.
+void refuse_walls_in_periodic_box(const Simulation::Engine& e, const char* call) {
+  if (e.container.periodic) refuse(std::string(call) + ": walls inside a periodic box are not supported");
+}
+
 // A container or wall with coordinates up to `extent` must leave every disc at least
 // kRelativeRadius of it.
 void check_extent(const Simulation::Engine& e, double extent, const char* call) {
@@ -106,7 +111,7 @@ WallShape checked_arc(const std::string& what, const Vec2& centre, double radius
 // A closed outline (or a hole) of segments and arcs: all or nothing, every disc must stay inside
 // the container with it and clear of its pieces. `merge`: end points closer than this are one.
 static void add_outline(Simulation::Engine& e, const char* call, std::vector<WallShape> pieces, bool hole, double merge = 0.0) {
-  if (e.container.periodic) refuse(std::string(call) + ": walls inside a periodic box are not supported");
+  refuse_walls_in_periodic_box(e, call);
   double extent = 0;
   for (const WallShape& piece : pieces) extent = std::max(extent, wall_extent(piece));
   check_extent(e, extent, call);
@@ -322,7 +327,7 @@ int Simulation::add_segment(const Vec2& a, const Vec2& b) {
   if (!bounded(b)) refuse(std::string("add_segment: b ") + kBounded + ", got " + vec(b));
   // (So close that the squared length underflows, the segment has no direction.)
   if (!((a - b).squaredNorm() > 0)) refuse("add_segment: a and b must differ, got " + vec(a) + " and " + vec(b));
-  if (e.container.periodic) refuse("add_segment: walls inside a periodic box are not supported");
+  refuse_walls_in_periodic_box(e, "add_segment");
   check_extent(e, std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()), "add_segment");
   const WallShape segment{WallKind::Segment, a, b, 0.0};
   for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
@@ -340,7 +345,7 @@ int Simulation::add_arc(const Vec2& centre, double radius, double start_angle, d
   Engine& e = *engine_;
   require_setup(e, "add_arc");
   const WallShape arc = checked_arc("add_arc: ", centre, radius, start_angle, end_angle);
-  if (e.container.periodic) refuse("add_arc: walls inside a periodic box are not supported");
+  refuse_walls_in_periodic_box(e, "add_arc");
   check_extent(e, wall_extent(arc), "add_arc");
   for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
     if (wall_clearance(arc, e.hot[i].position, e.hot[i].radius) < 0) {
@@ -505,7 +510,7 @@ void Simulation::add_polygon(const Points& vertices) {
     const Vec2 q = vertices.row((k + 1) % n).transpose();
     if (!((p - q).squaredNorm() > 0)) refuse("add_polygon: vertices " + std::to_string(k) + " and " + std::to_string((k + 1) % n) + " coincide at " + vec(p));
   }
-  if (e.container.periodic) refuse("add_polygon: walls inside a periodic box are not supported");
+  refuse_walls_in_periodic_box(e, "add_polygon");
   check_extent(e, vertices.cwiseAbs().maxCoeff(), "add_polygon");
   std::vector<WallShape> sides;
   for (int k = 0; k < n; ++k) sides.push_back(WallShape{WallKind::Segment, vertices.row(k).transpose(), vertices.row((k + 1) % n).transpose(), 0.0});
