@@ -40,6 +40,16 @@ void refuse_walls_in_periodic_box(const Simulation::Engine& e, const char* call)
   if (e.container.periodic) refuse(std::string(call) + ": walls inside a periodic box are not supported");
 }
 
+// A new wall (or a piece of a new outline, `what`) must leave every disc placed so far clear:
+// the same test as for a disc added among walls (wall_clearance).
+void refuse_wall_over_discs(const Simulation::Engine& e, const char* call, const WallShape& wall, const std::string& what) {
+  for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
+    if (wall_clearance(wall, e.hot[i].position, e.hot[i].radius) < 0) {
+      refuse(std::string(call) + ": " + what + " overlaps disc " + std::to_string(i) + " at " + vec(e.hot[i].position));
+    }
+  }
+}
+
 // A container or wall with coordinates up to `extent` must leave every disc at least
 // kRelativeRadius of it.
 void check_extent(const Simulation::Engine& e, double extent, const char* call) {
@@ -120,11 +130,9 @@ static void add_outline(Simulation::Engine& e, const char* call, std::vector<Wal
   for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
     const Vec2& r = e.hot[i].position;
     if (!Container::inside_outlines(outlines, r)) refuse(std::string(call) + ": disc " + std::to_string(i) + " at " + vec(r) + " would be outside the walls");
-    for (int k = 0; k < static_cast<int>(pieces.size()); ++k) {
-      if (wall_clearance(pieces[k], r, e.hot[i].radius) < 0) {
-        refuse(std::string(call) + ": " + (pieces[k].kind == WallKind::Arc ? "arc " : "side ") + std::to_string(k) + " overlaps disc " + std::to_string(i) + " at " + vec(r));
-      }
-    }
+  }
+  for (int k = 0; k < static_cast<int>(pieces.size()); ++k) {
+    refuse_wall_over_discs(e, call, pieces[k], (pieces[k].kind == WallKind::Arc ? "arc " : "side ") + std::to_string(k));
   }
   for (const WallShape& piece : pieces) add_wall_with_ends(e.container, piece, merge);
   e.container.outlines = std::move(outlines);
@@ -330,12 +338,7 @@ int Simulation::add_segment(const Vec2& a, const Vec2& b) {
   refuse_walls_in_periodic_box(e, "add_segment");
   check_extent(e, std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()), "add_segment");
   const WallShape segment{WallKind::Segment, a, b, 0.0};
-  for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
-    const double distance = (closest_point(segment, e.hot[i].position) - e.hot[i].position).norm();
-    if (distance < e.hot[i].radius) {
-      refuse("add_segment: segment " + vec(a) + "-" + vec(b) + " overlaps disc " + std::to_string(i) + " at " + vec(e.hot[i].position));
-    }
-  }
+  refuse_wall_over_discs(e, "add_segment", segment, "segment " + vec(a) + "-" + vec(b));
   const int index = static_cast<int>(e.container.walls.size());
   add_wall_with_ends(e.container, segment);
   return index;
@@ -347,11 +350,7 @@ int Simulation::add_arc(const Vec2& centre, double radius, double start_angle, d
   const WallShape arc = checked_arc("add_arc: ", centre, radius, start_angle, end_angle);
   refuse_walls_in_periodic_box(e, "add_arc");
   check_extent(e, wall_extent(arc), "add_arc");
-  for (int i = 0; i < static_cast<int>(e.hot.size()); ++i) {
-    if (wall_clearance(arc, e.hot[i].position, e.hot[i].radius) < 0) {
-      refuse("add_arc: the arc overlaps disc " + std::to_string(i) + " at " + vec(e.hot[i].position));
-    }
-  }
+  refuse_wall_over_discs(e, "add_arc", arc, "the arc");
   const int index = static_cast<int>(e.container.walls.size());
   add_wall_with_ends(e.container, arc);
   return index;
