@@ -236,9 +236,13 @@ class OnACluster(unittest.TestCase):
         self.assertEqual(status, 0, output)
         self.assertIn(f"{len(students)} up to date, 0 to grade (0 different task files)", output)
 
-        # Each student graded alone, as the platforms grade one submission: the same points.
+        # Each student graded alone, as the platforms grade one submission: the same points. (In
+        # propagate only those whose file is not the reference's: the others' class points there
+        # must be the reference student's, and grading that file again would only repeat it.)
         submission = WORK / "alone" / "submission"
+        reference_drawn = (REPO / "solutions" / TASK_FILE[DRAWN]).read_bytes()
         for student, files in sorted(students.items()):
+            tasks = MUTATED + ([DRAWN] if student == "reference" or files.get(TASK_FILE[DRAWN]) != reference_drawn else [])
             shutil.rmtree(submission.parent, ignore_errors=True)
             submission.mkdir(parents=True)
             for task in package.TASKS:
@@ -246,15 +250,17 @@ class OnACluster(unittest.TestCase):
                                                            or (REPO / "tasks" / TASK_FILE[task]).read_bytes())
             command = ["/usr/bin/python3", str(HERE / "grade.py"), "--submission", str(submission), "--results",
                        str(submission.parent / "results"), "--build", str(WORK / "alone-build"),
-                       *grade_class.grading_options(GRADED)]
+                       *grade_class.grading_options(tasks)]
             if os.geteuid() == 0:
                 command.append("--protect-reference")
             status, output = run(command, timeout=900)
             self.assertEqual(status, 0, output[-3000:])
             report = json.loads((submission.parent / "results" / "results.json").read_text())
             alone = {task: sum(test["score"] for test in report["tests"] if test["name"].startswith(task + ":"))
-                     for task in GRADED}
-            self.assertEqual(alone, points[student], student)
+                     for task in tasks}
+            self.assertEqual(alone, {task: points[student][task] for task in tasks}, student)
+            if DRAWN not in tasks:
+                self.assertEqual(points[student][DRAWN], points["reference"][DRAWN], student)
         self.assertEqual(points["reference"], {task: max(row[task] for row in points.values()) for task in GRADED})
         self.assertEqual(set(points["stubs"].values()), {0})
 
