@@ -338,12 +338,12 @@ class ClassResults:
         pictures = pictures or {}
         for record in records:
             for test in record["tests"]:
-                (own / grade.PICTURES / f"{test['name']}.svg").unlink(missing_ok=True)  # the last grading's
-                name = Path(test.get("picture") or "x").name
-                if test.get("picture") and name in pictures:
-                    (own / grade.PICTURES).mkdir(parents=True, exist_ok=True)
-                    (own / grade.PICTURES / name).write_bytes(pictures[name])
-                    line = f"Picture: {own / grade.PICTURES / name}\n"
+                drawn = own / grade.PICTURES / f"{test['name']}.svg"  # grade.py names a test's picture so
+                drawn.unlink(missing_ok=True)  # the last grading's
+                if test.get("picture") and drawn.name in pictures:
+                    drawn.parent.mkdir(parents=True, exist_ok=True)
+                    drawn.write_bytes(pictures[drawn.name])
+                    line = f"Picture: {drawn}\n"
                 else:
                     test["picture"], line = "", ""
                 test["feedback"] = grade.PICTURE_LINE.sub(lambda _: line, test["feedback"]).strip()
