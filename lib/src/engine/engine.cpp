@@ -30,7 +30,7 @@ constexpr double kCellsPerDisc = 0.8;
 
 static_assert(sizeof(Scheduled) == 32, "Scheduled should stay 32 bytes");
 
-void Simulation::Engine::advance_disc(HotDisc& d, double t) const {
+void Engine::advance_disc(HotDisc& d, double t) const {
   const double dt = t - d.time;
   if (has_gravity && !asleep(d)) {  // (a sleeping disc stays put)
     d.position += dt * (d.velocity + (0.5 * dt) * gravity);
@@ -41,18 +41,15 @@ void Simulation::Engine::advance_disc(HotDisc& d, double t) const {
   d.time = t;
 }
 
-void Simulation::Engine::link(int i, int cx, int cy) {
+void Engine::link(int i, int cx, int cy) {
   hot[i].cx = static_cast<std::uint16_t>(cx);
   hot[i].cy = static_cast<std::uint16_t>(cy);
   insert_disc(grid, cx + grid.nx * cy, i);
 }
 
-void Simulation::Engine::unlink(int i) { remove_disc(grid, cell_of_disc(hot[i]), i); }
+void Engine::unlink(int i) { remove_disc(grid, cell_of_disc(hot[i]), i); }
 
-void Simulation::Engine::prepare() {
-  if (!container.closed()) {
-    throw std::logic_error("advance: no container; call set_circular_table, set_periodic_box, add_box or add_polygon first");
-  }
+void Engine::prepare() {
   const int n = static_cast<int>(hot.size());
   // Region covered by the cells: every place a centre can reach.
   Vec2 lower, upper;
@@ -62,7 +59,7 @@ void Simulation::Engine::prepare() {
   // Automatic choice: about one disc per cell on average (side 1/sqrt(number density)), which
   // at low density makes cells larger than a diameter and crossings rarer; measured with
   // billiard_bench (see lib/DESIGN.md). Never fewer than 3 cells per periodic side
-  // (a neighbour must not be seen twice); set_periodic_box checks the period allows it.
+  // (a neighbour must not be seen twice); add_disc checks that the period allows it.
   const double diameter = std::max(2 * max_radius, 1e-300);
   double side = diameter;
   if (cell_size > 0) {
@@ -73,11 +70,11 @@ void Simulation::Engine::prepare() {
   }
   // Memory stays linear in N: at most about 4 cells per disc (plus a few for tiny systems).
   side = std::max(side, std::sqrt(extent.x() * extent.y() / (4.0 * n + 64)));
-  if (container.periodic) side = std::min(side, std::min(extent.x(), extent.y()) / 3);
-  grid = make_grid(lower, extent, side, container.periodic);
+  if (container.periodic()) side = std::min(side, std::min(extent.x(), extent.y()) / 3);
+  grid = make_grid(lower, extent, side, container.periodic());
   if (n > 0) set_capacity(grid, capacity_for(grid, min_radius));
 
-  assign_walls(grid, container.walls, max_radius * (1 + 1e-6) + 1e-12 * extent.norm());
+  assign_walls(grid, container.walls(), max_radius * (1 + 1e-6) + 1e-12 * extent.norm());
 
   now = 0.0;
   for (int i = 0; i < n; ++i) {
@@ -91,8 +88,8 @@ void Simulation::Engine::prepare() {
   // schedules, about 87,000 discs, where the whole engine (~390 bytes per disc) outgrows a
   // typical last-level cache of a few tens of MB.
   constexpr double kCachedBytes = 8.0 * (1 << 20);
-  prefetch_ahead = prefetch_mode == Simulation::Prefetch::On ||
-                   (prefetch_mode == Simulation::Prefetch::Automatic &&
+  prefetch_ahead = prefetch_mode == Prefetch::On ||
+                   (prefetch_mode == Prefetch::Automatic &&
                     static_cast<double>(n) * (sizeof(HotDisc) + sizeof(Scheduled)) > kCachedBytes);
   initial = state_now();
   choose_granular_model();
@@ -105,7 +102,7 @@ void Simulation::Engine::prepare() {
   setup_hash.cells.clear();  // no more discs can be added: free the setup hash
 }
 
-double Simulation::Engine::wall_time(const WallShape& wall, const Vec2& r, const Vec2& v, double radius) const {
+double Engine::wall_time(const WallShape& wall, const Vec2& r, const Vec2& v, double radius) const {
   switch (wall.kind) {
     case WallKind::Segment:
       return disc_segment_time(r, v, gravity, wall.a, wall.b, fixed_reach(radius));
@@ -132,7 +129,7 @@ template <bool kGravity, bool kSleepers>
 inline void test_pair(const BigVector<HotDisc>& hot, const Vec2& gravity, int i, int j, const Vec2& shift,
                       const Vec2& r, const Vec2& v, double radius, double t0, Scheduled& s) {
   const HotDisc& o = hot[j];
-  if (kSleepers && Simulation::Engine::asleep(o)) {
+  if (kSleepers && Engine::asleep(o)) {
     const double reach = radius * (1 - Simulation::kFixedContactSlack) + o.radius;
     const double t = t0 + disc_point_time(r, v, gravity, o.position + shift, reach);
     if (t < s.contact_time) {
@@ -192,16 +189,16 @@ inline void scan_list(const BigVector<HotDisc>& hot, const Vec2& gravity, int i,
 
 // Pair tests of disc i (at r, v, time now) against the discs of cell (cx, cy), which may lie
 // outside the grid: skipped, or wrapped with the image shift when periodic.
-void Simulation::Engine::scan_cell(int i, int cx, int cy, const Vec2& r, const Vec2& v, Scheduled& s) const {
+void Engine::scan_cell(int i, int cx, int cy, const Vec2& r, const Vec2& v, Scheduled& s) const {
   Vec2 shift = Vec2::Zero();
   if (cx < 0 || cx >= grid.nx) {
     if (!grid.periodic) return;
-    shift.x() = cx < 0 ? -container.period.x() : container.period.x();
+    shift.x() = cx < 0 ? -container.period().x() : container.period().x();
     cx = cx < 0 ? cx + grid.nx : cx - grid.nx;
   }
   if (cy < 0 || cy >= grid.ny) {
     if (!grid.periodic) return;
-    shift.y() = cy < 0 ? -container.period.y() : container.period.y();
+    shift.y() = cy < 0 ? -container.period().y() : container.period().y();
     cy = cy < 0 ? cy + grid.ny : cy - grid.ny;
   }
   const int c = cx + grid.nx * cy;
@@ -215,7 +212,7 @@ void Simulation::Engine::scan_cell(int i, int cx, int cy, const Vec2& r, const V
 }
 
 // Pair tests of disc i (at r, v, time now) against a gathered list of discs (no image shifts).
-void Simulation::Engine::scan_listed(int i, const int* list, int m, const Vec2& r, const Vec2& v, Scheduled& s) const {
+void Engine::scan_listed(int i, const int* list, int m, const Vec2& r, const Vec2& v, Scheduled& s) const {
   if (sleeping > 0) {
     scan_list<true, true>(hot, gravity, i, list, m, r, v, hot[i].radius, now, s);
   } else if (has_gravity) {
@@ -225,11 +222,11 @@ void Simulation::Engine::scan_listed(int i, const int* list, int m, const Vec2& 
   }
 }
 
-void Simulation::Engine::scan_walls(int cell, const Vec2& r, const Vec2& v, double radius, Scheduled& s) const {
+void Engine::scan_walls(int cell, const Vec2& r, const Vec2& v, double radius, Scheduled& s) const {
   if (!cell_has_walls(grid, cell)) return;  // (most cells: no read of wall_ranges)
   for (int k = cell_walls_begin(grid, cell), end = cell_walls_end(grid, cell); k < end; ++k) {
     const int w = grid.wall_items[k];
-    const double t = now + wall_time(container.walls[w], r, v, radius);
+    const double t = now + wall_time(container.walls()[w], r, v, radius);
     if (t < s.contact_time) {
       s.contact_time = t;
       s.partner = kNoDisc;
@@ -238,7 +235,7 @@ void Simulation::Engine::scan_walls(int cell, const Vec2& r, const Vec2& v, doub
   }
 }
 
-void Simulation::Engine::set_crossing(int i) {
+void Engine::set_crossing(int i) {
   const HotDisc& d = hot[i];
   // Cell faces (the outer faces of a non-periodic grid at infinity, see cell_bounds).
   Vec2 lo(grid.lower.x() + d.cx * grid.cell.x(), grid.lower.y() + d.cy * grid.cell.y());
@@ -267,7 +264,7 @@ void Simulation::Engine::set_crossing(int i) {
 }
 
 // The hint for disc i's next event (see EventHint).
-int Simulation::Engine::event_tag(int i) const {
+int Engine::event_tag(int i) const {
   const HotDisc& d = hot[i];
   const Scheduled& s = scheduled[i];
   if (grid.nx * static_cast<std::int64_t>(grid.ny) > (std::int64_t{1} << 27)) return EventHint::kNoHint;
@@ -277,14 +274,14 @@ int Simulation::Engine::event_tag(int i) const {
   return EventHint::crossing(cx + grid.nx * cy, s.crossing);
 }
 
-void Simulation::Engine::schedule(int i) {
+void Engine::schedule(int i) {
   const Scheduled& s = scheduled[i];
   queue.update(i, std::min(s.contact_time, s.crossing_time), event_tag(i));
 }
 
 // Prefetches the records of the 3 x 3 block of cells around cell c (clipped to the grid): three
 // rows of three consecutive 16-byte records, one or two cache lines each. A hint only.
-void Simulation::Engine::prefetch_block(int c) const {
+void Engine::prefetch_block(int c) const {
   const int last = grid.nx * grid.ny - 1;
   const int* base = grid.records.data();
   for (int dy = -1; dy <= 1; ++dy) {
@@ -316,7 +313,7 @@ CrossingCells crossing_cells(const Grid& grid, int c, Face face) {
 // Disc i's event will come up a few events from now (its bucket entered the queue's heap): start
 // loading its schedule, its state and the cell records its event will use (`tag`, see event_tag):
 // the 3 x 3 block for a contact, five records for a crossing.
-void Simulation::Engine::prefetch_event(int i, int tag) const {
+void Engine::prefetch_event(int i, int tag) const {
   prefetch_line(&scheduled[i]);
   prefetch_line(&hot[i]);
   if (tag == EventHint::kNoHint) return;
@@ -334,7 +331,7 @@ void Simulation::Engine::prefetch_event(int i, int tag) const {
 // The states of the discs the event `tag` will test (their cell records prefetched by
 // prefetch_event a few events ago): the 3 x 3 block around the cell of a contact, the new row of
 // a crossing.
-void Simulation::Engine::prefetch_neighbours(int tag) const {
+void Engine::prefetch_neighbours(int tag) const {
   if (tag == EventHint::kNoHint) return;
   const int c = EventHint::cell(tag);
   auto fetch = [&](int cell) {
@@ -357,7 +354,7 @@ void Simulation::Engine::prefetch_neighbours(int tag) const {
 // interior cell (almost all: no wrapping or bounds checks needed); -1 otherwise. Their states
 // are prefetched, so that the cache misses (the bottleneck from N ~ 10^5 on, when the discs no
 // longer fit in the caches) overlap instead of waiting for one another.
-int Simulation::Engine::gather(int i, int* list) const {
+int Engine::gather(int i, int* list) const {
   const HotDisc& d = hot[i];
   if (!(d.cx > 0 && d.cx < grid.nx - 1 && d.cy > 0 && d.cy < grid.ny - 1)) return -1;
   int m = 0;
@@ -369,13 +366,13 @@ int Simulation::Engine::gather(int i, int* list) const {
   return m;
 }
 
-int* Simulation::Engine::scratch(int which) {
+int* Engine::scratch(int which) {
   const std::size_t most = 9 * static_cast<std::size_t>(grid.capacity) + kInline;  // (see append_cell_discs)
   if (neighbours.size() < 2 * most) neighbours.resize(2 * most);  // the slots may have grown
   return neighbours.data() + which * most;
 }
 
-void Simulation::Engine::predict_full(int i) {
+void Engine::predict_full(int i) {
   prefetch_block(cell_of_disc(hot[i]));
   int* list = scratch(0);
   predict_gathered(i, list, gather(i, list));
@@ -386,7 +383,7 @@ void Simulation::Engine::predict_full(int i) {
 // requested), then the impulse is computed while those loads are under way, then j's
 // neighbours are gathered, and only then are the pairs tested. (Cell membership does not
 // change at a collision, so gathering before the impulse is the same.)
-void Simulation::Engine::collide_and_predict(int i, int j) {
+void Engine::collide_and_predict(int i, int j) {
   prefetch_block(cell_of_disc(hot[j]));
   int* list_j = scratch(1);  // (both calls ask for the same size: the second never reallocates)
   int* list_i = scratch(0);
@@ -399,7 +396,7 @@ void Simulation::Engine::collide_and_predict(int i, int j) {
 
 // Predicts disc i's next contact and crossing from scratch and reschedules it; `list` holds
 // the m discs gathered around it, or m < 0 for a border cell (scanned cell by cell).
-void Simulation::Engine::predict_gathered(int i, const int* list, int m) {
+void Engine::predict_gathered(int i, const int* list, int m) {
   HotDisc& d = hot[i];
   advance_disc(d, now);
   Scheduled& s = scheduled[i];
@@ -425,7 +422,7 @@ void Simulation::Engine::predict_gathered(int i, const int* list, int m) {
   if (prepared) schedule(i);
 }
 
-void Simulation::Engine::cross(int i) {
+void Engine::cross(int i) {
   HotDisc& d = hot[i];
   Scheduled& s = scheduled[i];
   advance_disc(d, now);
@@ -438,7 +435,7 @@ void Simulation::Engine::cross(int i) {
     int& moved = axis == 0 ? cx : cy;
     const int count = axis == 0 ? grid.nx : grid.ny;
     moved = moved < 0 ? count - 1 : 0;
-    d.position[axis] -= direction_of(face) * container.period[axis];
+    d.position[axis] -= direction_of(face) * container.period()[axis];
   }
   assert(cx >= 0 && cx < grid.nx && cy >= 0 && cy < grid.ny);
   unlink(i);
@@ -471,7 +468,7 @@ void Simulation::Engine::cross(int i) {
   schedule(i);
 }
 
-void Simulation::Engine::collide_pair(int i, int j) {
+void Engine::collide_pair(int i, int j) {
   assert(i != j && i >= 0 && j >= 0);
   HotDisc& a = hot[i];
   HotDisc& b = hot[j];
@@ -522,10 +519,10 @@ void Simulation::Engine::collide_pair(int i, int j) {
   }
 }
 
-void Simulation::Engine::collide_wall(int i, int w) {
+void Engine::collide_wall(int i, int w) {
   HotDisc& d = hot[i];
   advance_disc(d, now);
-  const WallShape& wall = container.walls[w];
+  const WallShape& wall = container.walls()[w];
   // Contact normal from the disc centre towards the wall.
   const Vec2 normal = wall.kind == WallKind::Circle ? Vec2(d.position - wall.a) : Vec2(closest_point(wall, d.position) - d.position);
   // A disc found a rounding error into the wall is put back on it. Under gravity a disc resting
@@ -569,14 +566,14 @@ void Simulation::Engine::collide_wall(int i, int w) {
 // for a disc meeting something fixed (a wall, a sleeping disc), the time of its previous
 // collision of any kind, and -infinity. So a disc resting on a floor, whose hops there are always
 // recent, keeps that contact elastic without making elastic the hits of a disc bouncing on it.
-Restitution Simulation::Engine::restitution_of(double approach_speed, double last_i, double last_j) const {
+Restitution Engine::restitution_of(double approach_speed, double last_i, double last_j) const {
   const bool recent = now - std::max(last_i, last_j) < contact_duration;
   if (!recent && !(approach_speed < elastic_impact_speed)) return restitution;
   const bool conserving = restitution.tangential == 1 || restitution.tangential == -1;
   return Restitution{1.0, conserving ? restitution.tangential : -1.0};
 }
 
-void Simulation::Engine::record(EventKind kind, int i, int other, int wall) {
+void Engine::record(EventKind kind, int i, int other, int wall) {
   EventRecord e;
   e.time = now;
   e.kind = kind;
@@ -598,7 +595,7 @@ void Simulation::Engine::record(EventKind kind, int i, int other, int wall) {
 // stuck_limit means the dynamics cannot go on (resting contact under gravity, inelastic collapse).
 // "One instant" is a relative 1e-10 of the time: a collapse can also crawl on by a rounding step
 // per event. Checked before the event is popped, so that a stop leaves every disc's event queued.
-bool Simulation::Engine::stuck_at_instant(double time, AdvanceResult& result) {
+bool Engine::stuck_at_instant(double time, AdvanceResult& result) {
   const std::int64_t stuck_limit = 1000 + 20 * static_cast<std::int64_t>(hot.size());
   if (time > instant + kInstant * std::abs(instant)) {
     events_at_instant = 0;
@@ -618,7 +615,7 @@ bool Simulation::Engine::stuck_at_instant(double time, AdvanceResult& result) {
 // those cache misses overlap with the work on this event. (Its schedule was prefetched when its
 // bucket moved into the heap.) `changing`: the partner of this event, whose entry for the same
 // collision is not the next event. 87% of the guesses are right at N = 10^6, area fraction 0.5.
-void Simulation::Engine::prefetch_upcoming(int changing) {
+void Engine::prefetch_upcoming(int changing) {
   const auto* next = queue.upcoming(changing);
   if (next == nullptr) return;
   prefetch_neighbours(next->tag);
@@ -633,7 +630,7 @@ void Simulation::Engine::prefetch_upcoming(int changing) {
 
 // A collision of discs i and j, now: wake j if the hit is hard enough, apply the impulse,
 // predict both again, and let them fall asleep if they are slow.
-void Simulation::Engine::handle_disc_collision(int i, int j, AdvanceResult& result) {
+void Engine::handle_disc_collision(int i, int j, AdvanceResult& result) {
   if (asleep(hot[j]) && hit_wakes(i, j)) wake(j);
   collide_and_predict(i, j);
   if (logging) record(EventKind::DiscDisc, i, j, kNoWall);
@@ -644,7 +641,7 @@ void Simulation::Engine::handle_disc_collision(int i, int j, AdvanceResult& resu
   }
 }
 
-void Simulation::Engine::handle_wall_collision(int i, int wall, AdvanceResult& result) {
+void Engine::handle_wall_collision(int i, int wall, AdvanceResult& result) {
   collide_wall(i, wall);
   if (logging) record(EventKind::DiscWall, i, kWall, wall);
   predict_full(i);
@@ -654,7 +651,7 @@ void Simulation::Engine::handle_wall_collision(int i, int wall, AdvanceResult& r
 
 // The checks switched on by set_validate_every_event or set_check_event_discs, after a collision
 // of disc i (and disc j, or kNoDisc); false when they found a problem (kept in `problem`).
-bool Simulation::Engine::checks_pass(int i, int j) {
+bool Engine::checks_pass(int i, int j) {
   if (validate_every_event) {
     problem = check();
   } else {
@@ -664,7 +661,7 @@ bool Simulation::Engine::checks_pass(int i, int j) {
   return problem.empty();
 }
 
-AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_duration) {
+AdvanceResult Engine::advance(std::int64_t max_events, double max_duration) {
   if (!prepared) prepare();
   AdvanceResult result;
   const double start = now;
@@ -725,7 +722,7 @@ AdvanceResult Simulation::Engine::advance(std::int64_t max_events, double max_du
   return result;
 }
 
-State Simulation::Engine::state_now() const {
+State Engine::state_now() const {
   const int n = static_cast<int>(hot.size());
   State state;
   state.time = now;
@@ -749,7 +746,7 @@ State Simulation::Engine::state_now() const {
 // (validate() checks each pair once, from its lower index), or null: the positions needed are
 // computed and every neighbour is checked (the check of the discs an event changed, O(1) per
 // event).
-std::string Simulation::Engine::disc_problem(int i, double tolerance, const Vec2* positions) const {
+std::string Engine::disc_problem(int i, double tolerance, const Vec2* positions) const {
   const auto at = [&](int j) -> Vec2 {
     if (positions) return positions[j];
     HotDisc moved = hot[j];
@@ -764,7 +761,7 @@ std::string Simulation::Engine::disc_problem(int i, double tolerance, const Vec2
   const std::string who = describe("disc ", i);
   const std::string outside = container.outside(ri, d.radius, slack);
   if (!outside.empty()) return who + " " + outside;
-  const bool few_walls = container.walls.size() <= 64;
+  const bool few_walls = container.walls().size() <= 64;
   const int first_wall = cell_walls_begin(grid, cell_i);
   const auto on_wall = few_walls ? container.overlapped_wall(ri, d.radius, slack)
                                  : container.overlapped_wall(ri, d.radius, slack, grid.wall_items.data() + first_wall,
@@ -798,7 +795,7 @@ std::string Simulation::Engine::disc_problem(int i, double tolerance, const Vec2
   return "";
 }
 
-std::string Simulation::Engine::check(double tolerance) const {
+std::string Engine::check(double tolerance) const {
   if (!prepared) return "";
   const int n = static_cast<int>(hot.size());
   std::vector<Vec2> r(static_cast<std::size_t>(n));

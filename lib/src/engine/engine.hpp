@@ -1,12 +1,15 @@
-// Internals of Simulation: the disc arrays, the cells, the queue and the event loop.
+// Internals of Simulation: the disc arrays, the cells, the queue and the event loop. This header
+// includes the public ones for the values they share (Settings, AdvanceResult, Totals); they name
+// nothing of it.
 // Not part of the public API (tests may include it on purpose).
 #pragma once
 
 #include "billiard/engine/collide.hpp"
 #include "billiard/engine/disc.hpp"
+#include "billiard/engine/settings.hpp"
 #include "billiard/engine/simulation.hpp"
 #include "billiard/engine/wall.hpp"
-#include "container.hpp"
+#include "billiard/engine/container.hpp"
 #include "event_queue.hpp"
 #include "sectors.hpp"
 
@@ -85,10 +88,12 @@ struct Scheduled {
   Face crossing;         // the face of the crossing
 };
 
+struct Engine;
+
 // The queue's view of the keys: a disc's key is the earlier of its contact and its crossing.
 // prefetch(): the queue is about to hand out this disc's event (a few events from now).
 struct ScheduledKeys {
-  const Simulation::Engine* engine = nullptr;
+  const Engine* engine = nullptr;
   const Scheduled* scheduled = nullptr;
   double key(int i) const { return std::min(scheduled[i].contact_time, scheduled[i].crossing_time); }
   inline void prefetch(int i, int tag) const;
@@ -101,7 +106,10 @@ struct SetupHash {
   std::unordered_map<std::int64_t, std::vector<int>> cells;
 };
 
-struct Simulation::Engine {
+// The data and the event loop of a Simulation, which holds it behind an opaque pointer.
+struct Engine {
+  Engine(Container container, const Settings& settings);
+
   // ---- setup ----
   Container container;
   Vec2 gravity = Vec2::Zero();
@@ -134,7 +142,7 @@ struct Simulation::Engine {
   // ---- run ----
   bool prepared = false;
   // Before each event, request the lines of the event expected after it (see prepare).
-  Simulation::Prefetch prefetch_mode = Simulation::Prefetch::Automatic;
+  Prefetch prefetch_mode = Prefetch::Automatic;
   bool prefetch_ahead = false;
   double now = 0.0;
   // The time of the first event of the latest instant and how many events came in it (see
@@ -159,6 +167,7 @@ struct Simulation::Engine {
   // Setup helpers (simulation.cpp).
   void check_disc(const Disc& disc, int index) const;
   void add_checked_disc(const Disc& disc);
+  void remove_discs_from(int first);  // undoes the adding of discs first, first + 1, ...
   void rebuild_setup_hash(double cell);
   bool overlaps_existing(const Vec2& position, double radius, int& other) const;
 
@@ -183,7 +192,7 @@ struct Simulation::Engine {
   Restitution restitution_of(double approach_speed, double last_i, double last_j) const;
   // Under gravity, the distance from a disc's centre at which it meets fixed things (see
   // Simulation::kFixedContactSlack).
-  double fixed_reach(double radius) const { return has_gravity ? radius * (1 - kFixedContactSlack) : radius; }
+  double fixed_reach(double radius) const { return has_gravity ? radius * (1 - Simulation::kFixedContactSlack) : radius; }
   // Sleeping discs (sleep.cpp).
   static bool asleep(const HotDisc& d) { return d.inverse_mass == 0; }
   double sleep_time() const;
@@ -223,7 +232,7 @@ inline void ScheduledKeys::prefetch(int i, int tag) const { engine->prefetch_eve
 // Calls visit(j, shift) for every disc j in the 3 x 3 cells around disc i's cell (i included),
 // where j's position plus `shift` is its periodic image nearest to those cells.
 template <typename Visit>
-void Simulation::Engine::for_each_near(int i, Visit visit) const {
+void Engine::for_each_near(int i, Visit visit) const {
   const HotDisc& d = hot[i];
   for (int dy = -1; dy <= 1; ++dy) {
     for (int dx = -1; dx <= 1; ++dx) {
@@ -231,10 +240,10 @@ void Simulation::Engine::for_each_near(int i, Visit visit) const {
       Vec2 shift = Vec2::Zero();
       if (x < 0 || x >= grid.nx || y < 0 || y >= grid.ny) {
         if (!grid.periodic) continue;
-        if (x < 0) { x += grid.nx; shift.x() = -container.period.x(); }
-        if (x >= grid.nx) { x -= grid.nx; shift.x() = container.period.x(); }
-        if (y < 0) { y += grid.ny; shift.y() = -container.period.y(); }
-        if (y >= grid.ny) { y -= grid.ny; shift.y() = container.period.y(); }
+        if (x < 0) { x += grid.nx; shift.x() = -container.period().x(); }
+        if (x >= grid.nx) { x -= grid.nx; shift.x() = container.period().x(); }
+        if (y < 0) { y += grid.ny; shift.y() = -container.period().y(); }
+        if (y >= grid.ny) { y -= grid.ny; shift.y() = container.period().y(); }
       }
       const int cell = x + grid.nx * y;
       const int* items = cell_discs(grid, cell);

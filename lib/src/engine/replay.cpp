@@ -2,7 +2,7 @@
 // Simulation API.
 #include "billiard/engine/replay.hpp"
 
-#include "container.hpp"
+#include "billiard/engine/container.hpp"
 #include "describe.hpp"
 
 #include <cmath>
@@ -18,7 +18,7 @@ Replay::Replay(const Simulation& simulation)
       asleep_(static_cast<std::size_t>(last_.positions.rows()), false),
       time_(last_.time),
       gravity_(simulation.gravity()),
-      period_(simulation.period()) {}
+      period_(simulation.container().period()) {}
 
 bool Replay::finished() const { return next_ >= simulation_->event_log().size(); }
 

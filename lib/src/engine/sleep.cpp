@@ -41,17 +41,17 @@ constexpr double kRestingOn = 0.5;
 // How long a disc must have been slow to fall asleep: three times the time gravity takes to
 // bring a disc from rest to the sleep speed. A disc, or an island of discs, that nothing holds up
 // speeds up beyond the sleep speed in less than twice that time.
-double Simulation::Engine::sleep_time() const { return 3 * sleep_speed / gravity.norm(); }
+double Engine::sleep_time() const { return 3 * sleep_speed / gravity.norm(); }
 
 // The largest gap between discs of one island, or between an island and a wall or sleeping disc
 // it rests on: twice the height a disc slower than the sleep speed can hop (v^2 / 2g each), at
 // most a tenth of the disc's radius.
-double Simulation::Engine::island_gap(double radius) const {
+double Engine::island_gap(double radius) const {
   return std::min(sleep_speed * sleep_speed / gravity.norm(), 0.1 * radius);
 }
 
 // Disc i (at the current time) has just collided; it moved at `speed_before` just before.
-void Simulation::Engine::note_speed(int i, double speed_before) {
+void Engine::note_speed(int i, double speed_before) {
   const HotDisc& d = hot[i];
   ColdDisc& c = cold[i];
   const double spin_speed = std::abs(c.spin) * d.radius;
@@ -66,7 +66,7 @@ void Simulation::Engine::note_speed(int i, double speed_before) {
 // After a collision of disc i: puts its island to sleep if every disc of it has been slow for the
 // sleep time and it touches something fixed. A failed try postpones the next tries of the discs
 // it looked at, so that a large island is not searched again at each collision.
-void Simulation::Engine::try_to_sleep(int i) {
+void Engine::try_to_sleep(int i) {
   ColdDisc& c = cold[i];
   if (asleep(hot[i]) || c.slow_since > now - sleep_time() || c.next_sleep_try > now) return;
   const double since = now - sleep_time();
@@ -88,7 +88,7 @@ void Simulation::Engine::try_to_sleep(int i) {
     const int cell = cell_of_disc(d);
     if (!held && cell_has_walls(grid, cell)) {
       for (int w = cell_walls_begin(grid, cell), end = cell_walls_end(grid, cell); w < end && !held; ++w) {
-        held = wall_clearance(container.walls[grid.wall_items[w]], d.position, d.radius) <= gap;
+        held = wall_clearance(container.walls()[grid.wall_items[w]], d.position, d.radius) <= gap;
       }
     }
     for_each_near(m, [&](int j, const Vec2& shift) {
@@ -136,7 +136,7 @@ void Simulation::Engine::try_to_sleep(int i) {
 
 // The awake discs around `discs` predicted their contacts with them while they moved (or stood):
 // predicts them again.
-void Simulation::Engine::predict_around(const std::vector<int>& discs) {
+void Engine::predict_around(const std::vector<int>& discs) {
   for (int i : discs) {
     for_each_near(i, [&](int j, const Vec2&) {
       if (!asleep(hot[j])) predict_full(j);
@@ -145,7 +145,7 @@ void Simulation::Engine::predict_around(const std::vector<int>& discs) {
 }
 
 // Whether awake disc i, about to collide with sleeping disc j, hits it hard enough to wake it.
-bool Simulation::Engine::hit_wakes(int i, int j) const {
+bool Engine::hit_wakes(int i, int j) const {
   HotDisc d = hot[i];
   advance_disc(d, now);
   const Vec2 sigma = container.minimum_image(hot[j].position - d.position).normalized();
@@ -154,7 +154,7 @@ bool Simulation::Engine::hit_wakes(int i, int j) const {
 
 // Wakes sleeping disc j and, in turn, every sleeping disc resting on a disc woken; each then
 // falls freely from rest, from now.
-void Simulation::Engine::wake(int j) {
+void Engine::wake(int j) {
   const Vec2 up = -gravity.normalized();
   woken.assign(1, j);
   hot[j].inverse_mass = 1.0 / cold[j].mass;
@@ -185,7 +185,7 @@ void Simulation::Engine::wake(int j) {
 }
 
 // Every sleeping disc wakes (discs may no longer sleep).
-void Simulation::Engine::wake_all() {
+void Engine::wake_all() {
   woken.clear();
   for (int i = 0, n = static_cast<int>(hot.size()); i < n; ++i) {
     HotDisc& d = hot[i];

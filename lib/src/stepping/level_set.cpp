@@ -10,11 +10,10 @@
 namespace billiard::stepping {
 namespace {
 
-std::string vec(const Vec2& v) { return describe("(", v.x(), ", ", v.y(), ")"); }
 
 void require_finite(const Vec2& v, const char* call, const char* name) {
   if (!std::isfinite(v.x()) || !std::isfinite(v.y())) {
-    throw std::invalid_argument(describe(call, ": ", name, " = ", vec(v), " must be finite"));
+    throw std::invalid_argument(describe(call, ": ", name, " = ", v, " must be finite"));
   }
 }
 
@@ -133,7 +132,7 @@ std::shared_ptr<const LevelSet> box(const Vec2& lower, const Vec2& upper) {
   require_finite(lower, "box", "lower");
   require_finite(upper, "box", "upper");
   if (!(upper.x() > lower.x()) || !(upper.y() > lower.y())) {
-    throw std::invalid_argument(describe("box: upper = ", vec(upper), " must exceed lower = ", vec(lower),
+    throw std::invalid_argument(describe("box: upper = ", upper, " must exceed lower = ", lower,
                                          " in both coordinates (the sides must be positive)"));
   }
   return std::make_shared<Box>(lower, upper);

@@ -1,29 +1,34 @@
-// The simulation: discs and walls, advanced from collision to collision.
+// The simulation: discs in a container, advanced from collision to collision. A system is
+// described first (a Container and its Settings, container.hpp and settings.hpp), then made into
+// a simulation, given discs and run:
 //
-//   billiard::Simulation sim;
-//   sim.add_box({0, 0}, {10, 10});                       // or set_circular_table / set_periodic_box
+//   billiard::Settings settings;                         // defaults: no gravity, elastic
+//   billiard::Simulation sim(billiard::box({0, 0}, {10, 10}), settings);
 //   billiard::Disc d;  d.position = {1, 1};  d.velocity = {1, 0.5};
 //   int id = sim.add_disc(d);
 //   sim.advance(1000);                                   // 1000 collisions, or
 //   sim.advance(kAllEvents, 2.5);                        // 2.5 time units
 //   billiard::State now = sim.current_state();
 //
-// Setup (discs, walls, container, gravity, cell size) must be complete before the first
-// advance(); afterwards only the restitution, the event log and validation can change. Every
-// setup call checks its input and throws std::invalid_argument naming the argument (and the disc
-// index) and its value; a refused call leaves the simulation unchanged. A setup call after the
-// first advance() throws std::logic_error (the call is the mistake, whatever its arguments), as
-// does advance() without a container. Numbers must be finite and at most 1e50 in magnitude, and
-// radii, masses and moments of inertia at least 1e-50: the engine squares and multiplies them,
-// and beyond that the products overflow or underflow. Radii must also be at least 1e-6 of the
-// coordinates of the container and the discs: positions are computed to about 1e-16 of them.
+// The container and the settings are checked when the simulation is made; discs are checked
+// against the container as they are added, before the first advance(). Afterwards only the
+// restitution, the exchange rule, the granular model, the event log and validation can change.
+// Every call checks its input and throws std::invalid_argument naming the argument (and the
+// disc index) and its value; a refused call leaves the simulation unchanged. Adding discs after
+// the first advance() throws std::logic_error (the call is the mistake, whatever its
+// arguments). Numbers must be finite and at most 1e50 in magnitude, and radii, masses and
+// moments of inertia at least 1e-50: the engine squares and multiplies them, and beyond that the
+// products overflow or underflow. Radii must also be at least 1e-6 of the coordinates of the
+// container and the discs: positions are computed to about 1e-16 of them.
 //
 // Units: the user's. Time starts at 0. Energy is conserved to rounding for smooth elastic discs
 // (about 1e-16 relative per collision, a random walk).
 #pragma once
 
 #include "billiard/engine/collide.hpp"
+#include "billiard/engine/container.hpp"
 #include "billiard/engine/disc.hpp"
+#include "billiard/engine/settings.hpp"
 #include "billiard/engine/vec2.hpp"
 #include "billiard/engine/wall.hpp"
 
@@ -68,97 +73,21 @@ struct Totals {
 
 class Simulation {
  public:
-  Simulation();
+  // A simulation of discs in `container` under `settings`, with no discs yet.
+  explicit Simulation(Container container, const Settings& settings = Settings());
   ~Simulation();
   Simulation(Simulation&&) noexcept;
   Simulation& operator=(Simulation&&) noexcept;
   Simulation(const Simulation&);
   Simulation& operator=(const Simulation&);
 
-  // ---- Containers (at least one is needed before advance) ----
-  // Circular table of `radius` centred at the origin; discs live inside it.
-  void set_circular_table(double radius);
-  // Periodic box [0, width) x [0, height): the standard bulk system (no walls inside it).
-  void set_periodic_box(double width, double height);
-  // A straight wall from a to b (two-sided) and its two end points; returns the segment's wall
-  // index. End points shared with earlier segments are not duplicated.
-  int add_segment(const Vec2& a, const Vec2& b);
-  // The four walls of the axis-aligned box [lower, upper]; discs live inside it.
-  void add_box(const Vec2& lower, const Vec2& upper);
-  // A closed polygon (vertices N by 2, N >= 3, in order): one segment per side. Discs must be
-  // inside an odd number of the closed polygons and boxes (so a polygon inside a box is an
-  // obstacle).
-  void add_polygon(const Points& vertices);
-  // Curved walls. Angles in radians, counter-clockwise from +x.
-  // A circular arc (two-sided, like a segment: discs meet it from inside its circle or from
-  // outside) of `radius` about `centre`, counter-clockwise from start_angle to end_angle
-  // (0 < end_angle - start_angle <= 2 pi; 2 pi is a whole circle), and its two end points;
-  // returns the arc's wall index.
-  int add_arc(const Vec2& centre, double radius, double start_angle, double end_angle);
-  // A disc obstacle: a whole circle that discs stay outside of (a hole in the container, which
-  // must be set as well: a table, box, polygon or curved outline around it).
-  void add_disc_obstacle(const Vec2& centre, double radius);
-  // A stadium: two half circles of `radius` whose centres lie `length` apart on a horizontal
-  // line through `centre`, joined by two straight sides of that length; discs live inside it.
-  void add_stadium(const Vec2& centre, double radius, double length);
-  // The Sinai billiard: the box [lower, upper] with a disc obstacle of obstacle_radius at its
-  // middle (2 obstacle_radius below the smaller side).
-  void add_sinai_billiard(const Vec2& lower, const Vec2& upper, double obstacle_radius);
-  // A mushroom: a half-disc cap of cap_radius above the horizontal line through `centre` (the
-  // middle of its flat side), on a rectangular stem stem_width wide (< 2 cap_radius) and
-  // stem_height tall below it; discs live inside it.
-  void add_mushroom(const Vec2& centre, double cap_radius, double stem_width, double stem_height);
-  // The union of circles (centres N by 2, radii N): its boundary is the arcs of each circle
-  // outside all the others, and the points where two such arcs meet are point walls. Discs
-  // live inside the union.
-  // The curved outlines count in the even-odd rule like polygons.
-  void add_union_of_circles(const Points& centres, const std::vector<double>& radii);
-
-  // ---- Physics ----
-  void set_gravity(const Vec2& g);                      // uniform, any direction; default 0
+  // ---- Settings that may change at any time (see settings.hpp) ----
   void set_restitution(double normal, double tangential = -1.0);  // see collide.hpp
-  // The exchange rule (off by default): two discs that meet reverse their whole relative
-  // velocity, so discs of equal mass exchange their velocities (exactly); walls reflect like
-  // mirrors (the normal component reverses). For equal masses this is perfectly rough discs
-  // (tangential restitution +1) whose spins never change (an infinite moment of inertia), but
-  // with smooth walls: the rule of the classic "Collisions" exercise (the `particles` program).
-  // Momentum and energy are conserved. While it is on, the restitution and the granular rules
-  // do not apply to discs meeting discs (a disc meeting a sleeping one, which happens only with
-  // a sleep speed set, still follows the restitution). May be changed at any time.
   void set_exchange_velocities(bool on);
-  // Granular gases (normal restitution < 1). Inelastic collisions can come infinitely often in a
-  // finite time (inelastic collapse), and a disc settling on a floor under gravity bounces ever
-  // lower and faster: event-driven dynamics would stop there. Three rules, on by default, deal
-  // with it; they only ever take energy away or switch dissipation off, never add energy:
-  //  - the TC model (Luding & McNamara 1998): a collision less than `duration` after the previous
-  //    collision of either disc is elastic, as if the two were one longer contact (for two moving
-  //    discs, their previous collisions with moving discs count; for a disc meeting a wall or a
-  //    sleeping disc, its previous collision of any kind);
-  //  - slow impacts (Poschel & Schwager, Computational Granular Dynamics, ch. 3): a collision
-  //    whose contact points approach at less than `speed` along the normal is elastic, so that a
-  //    disc resting on a floor under gravity g bounces at most speed^2 / (2 g) high;
-  //  - sleeping (set_sleep_speed), which takes the place of slow impacts under gravity.
-  // std::nullopt chooses automatically at the first advance (see contact_duration()); 0 switches
-  // the rule off. Either may be changed at any time, like the restitution.
   void set_contact_duration(std::optional<double> duration);
   void set_elastic_impact_speed(std::optional<double> speed);
-  // Discs at rest under gravity sleep, so that a settled bed costs no events (sleep.cpp): discs
-  // slower than `speed` for 3 speed / |g|, connected by contacts and touching a wall or a sleeping
-  // disc, stop together; a sleeping disc is immovable and has no events. A disc hitting one at a
-  // normal speed of at least `speed` wakes it (and the sleeping discs resting on it); slower hits
-  // bounce off it. std::nullopt: automatic, sqrt(2 |g| h) with h = kRestingBounce mean radii when
-  // gravity acts and the normal restitution is below 1, else 0; 0 switches sleeping off and wakes
-  // every sleeping disc. May be changed at any time. While discs can sleep, the automatic elastic
-  // impact speed is 0.
+  // 0 switches sleeping off and wakes every sleeping disc.
   void set_sleep_speed(std::optional<double> speed);
-  // Cell side (>= the largest diameter); 0 = automatic (the default).
-  void set_cell_size(double size);
-  // Whether each event starts loading the data of the event expected after it (the discs' states
-  // around it) into the caches: faster for large systems, slower where everything fits in the
-  // caches anyway. Automatic (the default) turns it on from about 87,000 discs; On and Off force
-  // it (benchmarks, tests). The events and results are the same either way.
-  enum class Prefetch { Automatic, On, Off };
-  void set_prefetch_ahead(Prefetch mode);
 
   // ---- Discs ----
   // Adds one disc (see disc.hpp) and returns its index. Refused if it overlaps another disc or
@@ -187,7 +116,7 @@ class Simulation {
   double time() const;
   State current_state() const;        // all discs advanced to time()
   const State& initial_state() const; // as at the first advance (or now, before it)
-  const std::vector<WallShape>& walls() const;
+  const Container& container() const;
   Totals totals() const;
   double kinetic_energy() const;      // sum m v^2/2 + I w^2/2
   double potential_energy() const;    // - sum m g.r
@@ -215,9 +144,6 @@ class Simulation {
   // it drops that far and bounces (the drop gives it the speed: no energy is gained). Ten times
   // below validate()'s tolerance.
   static constexpr double kFixedContactSlack = 1e-10;
-  bool periodic() const;              // a periodic box (see period())
-  Vec2 period() const;                // width and height of the periodic box; (0, 0) if none
-  double table_radius() const;        // radius of the circular table; 0 if none
   int cell_count() const;             // cells of the grid (0 before the first advance)
 
   // ---- Event log (replayed by billiard::Replay, replay.hpp) ----
@@ -241,10 +167,10 @@ class Simulation {
   // The problem that stopped the last advance() (or the last validate()'s), if any.
   std::optional<std::string> last_problem() const;
 
-  struct Engine;  // internals, lib/src/engine/engine.hpp
-
  private:
-  std::unique_ptr<Engine> engine_;
+  // The disc arrays, the cells, the queue and the event loop, whose type belongs to lib/src
+  // (engine.hpp): held here as an opaque pointer, so that this header names none of it.
+  std::unique_ptr<void, void (*)(void*)> engine_;
 };
 
 }  // namespace billiard

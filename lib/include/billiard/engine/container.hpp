@@ -1,0 +1,150 @@
+// The space the discs live in: a circular table, a periodic box, or closed outlines (boxes,
+// polygons and curved outlines of segments and arcs) with their walls, plus any free segments,
+// arcs and obstacles added to them.
+//
+//   billiard::Container table = billiard::sinai_billiard({0, 0}, {10, 10}, 2);
+//   table.add_segment({1, 1}, {3, 1});                   // a free wall
+//   billiard::Simulation sim(table);                     // fixed from here on
+//
+// A container is a value, made by one of the functions below for its shape and then extended.
+// Each function and each add_ call checks its arguments when it is called and throws
+// std::invalid_argument naming the argument and its value; a refused add_ call leaves the
+// container as it was. Numbers must be finite and at most 1e50 in magnitude (limits.hpp).
+//
+// Its geometry is asked the same questions by the simulation's checks, the event loop,
+// validation and replay: where a periodic position wraps to, the nearest periodic image, whether
+// a disc is inside, how far it is from a wall, and which region the discs can reach. Each answer
+// is written once, here.
+#pragma once
+
+#include "billiard/engine/vec2.hpp"
+#include "billiard/engine/wall.hpp"
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace billiard {
+
+// A closed outline for the inside test: its segments and arcs (in any order). A hole (an
+// obstacle) keeps discs out whatever the other outlines say.
+struct Outline {
+  std::vector<WallShape> pieces;
+  bool hole = false;
+};
+
+class Container;
+
+// The shapes. Angles in radians, counter-clockwise from +x.
+// A circular table of `radius` centred at the origin; discs live inside it.
+Container circular_table(double radius);
+// The periodic box [0, width) x [0, height): the standard bulk system. It has no walls, and none
+// can be added to it.
+Container periodic_box(double width, double height);
+// The axis-aligned box [lower, upper]: four walls, discs inside.
+Container box(const Vec2& lower, const Vec2& upper);
+// A closed polygon (vertices N by 2, N >= 3, in order): one wall per side, discs inside.
+Container polygon(const Points& vertices);
+// A stadium: two half circles of `radius` whose centres lie `length` apart on a horizontal line
+// through `centre`, joined by two straight sides of that length; discs live inside it.
+Container stadium(const Vec2& centre, double radius, double length);
+// The Sinai billiard: the box [lower, upper] with a disc obstacle of obstacle_radius at its
+// middle (2 obstacle_radius below the smaller side).
+Container sinai_billiard(const Vec2& lower, const Vec2& upper, double obstacle_radius);
+// A mushroom: a half-disc cap of cap_radius above the horizontal line through `centre` (the
+// middle of its flat side), on a rectangular stem stem_width wide (< 2 cap_radius) and
+// stem_height tall below it; discs live inside it.
+Container mushroom(const Vec2& centre, double cap_radius, double stem_width, double stem_height);
+// The union of circles (centres N by 2, radii N): its boundary is the arcs of each circle outside
+// all the others, and the points where two such arcs meet are point walls. Discs live inside it.
+Container union_of_circles(const Points& centres, const std::vector<double>& radii);
+
+class Container {
+ public:
+  // ---- More walls (not in a periodic box) ----
+  // A straight wall from a to b (two-sided) and its two end points; returns the segment's index
+  // in walls(). End points shared with earlier segments are not duplicated.
+  int add_segment(const Vec2& a, const Vec2& b);
+  // A circular arc (two-sided, like a segment: discs meet it from inside its circle or from
+  // outside) of `radius` about `centre`, counter-clockwise from start_angle to end_angle
+  // (0 < end_angle - start_angle <= 2 pi; 2 pi is a whole circle), and its two end points;
+  // returns the arc's index in walls().
+  int add_arc(const Vec2& centre, double radius, double start_angle, double end_angle);
+  // A disc obstacle: a whole circle that discs stay outside of.
+  void add_obstacle(const Vec2& centre, double radius);
+  // An obstacle of any outlined shape (a box, polygon, stadium, mushroom or union of circles,
+  // made by the functions above): discs stay outside of it.
+  void add_obstacle(const Container& shape);
+
+  // ---- What it is ----
+  const std::vector<WallShape>& walls() const { return walls_; }  // table circle, segments, arcs, end points
+  const std::vector<Outline>& outlines() const { return outlines_; }
+  bool has_table() const { return has_table_; }
+  double table_radius() const { return table_radius_; }  // 0 without a table
+  bool periodic() const { return periodic_; }
+  Vec2 period() const { return period_; }  // width and height of the periodic box; (0, 0) if none
+
+  // ---- Geometry ----
+  // p wrapped into the periodic box (p itself without one).
+  Vec2 wrap(const Vec2& p) const;
+  // The shortest of the vectors equal to dr up to whole periods (dr itself without a period).
+  // (Inline: the event loop calls it at every collision.)
+  Vec2 minimum_image(Vec2 dr) const {
+    if (periodic_) {
+      dr.x() -= period_.x() * std::round(dr.x() / period_.x());
+      dr.y() -= period_.y() * std::round(dr.y() / period_.y());
+    }
+    return dr;
+  }
+  // Why a disc of `radius` centred at p is not inside the container by more than `slack` (the
+  // table, the periodic box, the outlines), as the end of a sentence after "disc i"; "" if it is.
+  std::string outside(const Vec2& p, double radius, double slack) const;
+  // The first wall (from index `first` of `indices`, or of all walls when indices is null) that
+  // a disc of `radius` at p overlaps by more than `slack`, with its clearance.
+  struct Overlap {
+    int wall;
+    double clearance;
+  };
+  std::optional<Overlap> overlapped_wall(const Vec2& p, double radius, double slack, const int* indices = nullptr,
+                                         int count = -1) const;
+  // A box holding every place a centre can reach: the period, or the box of the table and the
+  // outlines.
+  void bounds(Vec2& lower, Vec2& upper) const;
+  // The largest coordinate of the container and the walls. Every wall counts: the distance to a
+  // segment that reaches into the table from 1e50 away is computed from its far end point.
+  double extent() const;
+
+ private:
+  Container() = default;  // (made by the shape functions only: a container always holds discs in)
+  friend Container circular_table(double);
+  friend Container periodic_box(double, double);
+  friend Container polygon(const Points&);
+  friend Container stadium(const Vec2&, double, double);
+  friend Container mushroom(const Vec2&, double, double, double);
+  friend Container union_of_circles(const Points&, const std::vector<double>&);
+
+  // A container of one closed outline (or a hole); end points closer than `merge` are one.
+  static Container of_outline(std::vector<WallShape> pieces, double merge = 0.0);
+  void refuse_in_periodic_box(const char* call) const;
+  void add_outline(Outline outline, double merge = 0.0);
+  void add_wall_with_ends(const WallShape& wall, double merge = 0.0);
+
+  std::vector<WallShape> walls_;
+  std::vector<Outline> outlines_;
+  bool has_table_ = false;
+  double table_radius_ = 0.0;
+  bool periodic_ = false;
+  Vec2 period_ = Vec2::Zero();
+  int free_walls_ = 0;  // segments and arcs added on their own, outside any outline
+};
+
+// p moved by whole periods into [0, period.x) x [0, period.y); p itself when period is (0, 0)
+// (no periodic box).
+Vec2 wrap_into_period(Vec2 p, const Vec2& period);
+
+// Gap between a disc of `radius` at p and a wall: the distance from the disc's edge to the wall,
+// negative when they overlap. For the circle of a table the disc is inside it.
+double wall_clearance(const WallShape& wall, const Vec2& p, double radius);
+
+}  // namespace billiard
