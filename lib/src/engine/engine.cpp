@@ -480,7 +480,7 @@ void Engine::collide_pair(int i, int j) {
   if (smooth_elastic) {
     q = collide_smooth_elastic(dr, a.velocity, a.inverse_mass, b.velocity, b.inverse_mass);
   } else if (exchange_velocities && !asleep(b) && (a.velocity - b.velocity).dot(dr) > 0) {
-    // The whole relative velocity is reversed (Simulation::set_exchange_velocities); equal
+    // The whole relative velocity is reversed (Settings::exchange_velocities); equal
     // masses swap their velocities exactly, so that no rounding enters.
     const Vec2 g = a.velocity - b.velocity;
     if (a.inverse_mass == b.inverse_mass) {
@@ -560,7 +560,7 @@ void Engine::collide_wall(int i, int w) {
 
 // The restitution of one collision, whose contact points approach at `approach_speed` along the
 // normal: the one set, unless the granular model makes the collision elastic
-// (Simulation::set_contact_duration and set_elastic_impact_speed). Elastic means no dissipation
+// (Settings::contact_duration and elastic_impact_speed). Elastic means no dissipation
 // at all, tangential included, so the model can only take dissipation away, never add energy.
 // last_i, last_j: for two moving discs, the times of their previous collisions with moving discs;
 // for a disc meeting something fixed (a wall, a sleeping disc), the time of its previous

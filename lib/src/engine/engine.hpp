@@ -117,10 +117,10 @@ struct Engine {
   Restitution restitution;
   // Disc-disc collisions take the fast smooth elastic path (restitution 1, -1, no exchange).
   bool smooth_elastic = true;
-  // Simulation::set_exchange_velocities; walls reflect like mirrors when either is set.
+  // Settings::exchange_velocities; walls reflect like mirrors when either is set.
   bool exchange_velocities = false;
   bool mirror_walls = true;
-  // The granular model (see Simulation::set_contact_duration): as set (nullopt: automatic), and
+  // The granular model (see Settings::contact_duration): as set (nullopt: automatic), and
   // the values in use, chosen at the first advance.
   std::optional<double> contact_duration_setting;
   std::optional<double> elastic_impact_speed_setting;

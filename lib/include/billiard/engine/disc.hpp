@@ -34,7 +34,7 @@ struct State {
 };
 
 // What a logged event was: a collision of two discs or of a disc with a wall, or a disc falling
-// asleep or waking up (see Simulation::set_sleep_speed).
+// asleep or waking up (see Settings::sleep_speed).
 enum class EventKind : int { DiscDisc, DiscWall, Sleep, Wake };
 
 // One recorded event (the event log). `other` is the second disc; for a wall hit it is kWall
