@@ -1,10 +1,10 @@
 #include "billiard/argument_checks.hpp"
 
+#include "billiard/describe.hpp"
 #include "billiard/engine/wall.hpp"
 #include "billiard/limits.hpp"
 
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -14,10 +14,7 @@ namespace {
 
 template <typename... Parts>
 [[noreturn]] void fail(const Parts&... parts) {
-  std::ostringstream message;
-  message.precision(10);
-  (message << ... << parts);
-  throw std::invalid_argument(message.str());
+  throw std::invalid_argument(describe(parts...));
 }
 
 // The numbers the course functions accept (billiard/limits.hpp): beyond them the squares and

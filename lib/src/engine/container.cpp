@@ -2,7 +2,7 @@
 #include "billiard/engine/container.hpp"
 
 #include "billiard/limits.hpp"
-#include "describe.hpp"
+#include "billiard/describe.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -310,11 +310,6 @@ Vec2 wrap_into_period(Vec2 p, const Vec2& period) {
 double wall_clearance(const WallShape& wall, const Vec2& p, double radius) {
   if (wall.kind == WallKind::Circle) return wall.radius - (p - wall.a).norm() - radius;
   return (closest_point(wall, p) - p).norm() - radius;
-}
-
-std::string wall_overlap_message(const std::string& who, const Vec2& p, int wall, double clearance, double radius) {
-  return describe(who, " at (", p.x(), ", ", p.y(), ") overlaps wall ", wall, ": distance ", radius + clearance,
-                  " < radius ", radius);
 }
 
 namespace {

@@ -13,7 +13,7 @@
 #include "engine.hpp"
 
 #include "billiard/engine/time_of_impact.hpp"
-#include "describe.hpp"
+#include "billiard/describe.hpp"
 
 #include <algorithm>
 #include <cassert>

@@ -227,6 +227,10 @@ struct Engine {
   void record(EventKind kind, int i, int other, int wall);
 };
 
+// The message for a disc overlapping a wall, the same at set-up and in validation
+// (container.cpp).
+std::string wall_overlap_message(const std::string& who, const Vec2& p, int wall, double clearance, double radius);
+
 inline void ScheduledKeys::prefetch(int i, int tag) const { engine->prefetch_event(i, tag); }
 
 // Calls visit(j, shift) for every disc j in the 3 x 3 cells around disc i's cell (i included),

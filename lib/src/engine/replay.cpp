@@ -3,7 +3,7 @@
 #include "billiard/engine/replay.hpp"
 
 #include "billiard/engine/container.hpp"
-#include "describe.hpp"
+#include "billiard/describe.hpp"
 
 #include <cmath>
 #include <stdexcept>

@@ -3,7 +3,7 @@
 #include "billiard/engine/simulation.hpp"
 
 #include "billiard/limits.hpp"
-#include "describe.hpp"
+#include "billiard/describe.hpp"
 #include "engine.hpp"
 
 #include <algorithm>
@@ -45,6 +45,10 @@ std::int64_t hash_column(double x, double cell) {
 
 
 }  // namespace
+
+std::string wall_overlap_message(const std::string& who, const Vec2& p, int wall, double clearance, double radius) {
+  return describe(who, " at ", p, " overlaps wall ", wall, ": distance ", radius + clearance, " < radius ", radius);
+}
 
 // ---------------------------------------------------------------------------------------------
 // Setup helpers

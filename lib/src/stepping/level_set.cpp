@@ -1,7 +1,7 @@
 // The built-in level sets: circle, ellipse, box (formulas in level_set.hpp and lib/PHYSICS.md).
 #include "billiard/stepping/level_set.hpp"
 
-#include "describe.hpp"
+#include "billiard/describe.hpp"
 
 #include <cmath>
 #include <stdexcept>

@@ -3,7 +3,7 @@
 // stepping in level-set domains"). Level sets are evaluated for many particles per call.
 #include "billiard/stepping/stepper.hpp"
 
-#include "describe.hpp"
+#include "billiard/describe.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -15,7 +15,6 @@ namespace {
 
 using Index = Eigen::Index;
 
-std::string vec(double x, double y) { return describe("(", x, ", ", y, ")"); }
 
 // A level set's answer, checked: one finite value (or gradient) per point.
 Eigen::VectorXd checked_values(const LevelSet& part, int k, const Points& points) {
@@ -25,7 +24,7 @@ Eigen::VectorXd checked_values(const LevelSet& part, int k, const Points& points
   }
   for (Index i = 0; i < w.size(); ++i) {
     if (!std::isfinite(w[i])) {
-      throw std::invalid_argument(describe("domain part ", k, " returned omega = ", w[i], " at ", vec(points(i, 0), points(i, 1)),
+      throw std::invalid_argument(describe("domain part ", k, " returned omega = ", w[i], " at ", Vec2(points(i, 0), points(i, 1)),
                                            ": omega must be finite"));
     }
   }
@@ -39,8 +38,8 @@ Points checked_gradients(const LevelSet& part, int k, const Points& points) {
   }
   for (Index i = 0; i < g.rows(); ++i) {
     if (!std::isfinite(g(i, 0)) || !std::isfinite(g(i, 1))) {
-      throw std::invalid_argument(describe("domain part ", k, " returned the gradient ", vec(g(i, 0), g(i, 1)), " at ",
-                                           vec(points(i, 0), points(i, 1)), ": gradients must be finite"));
+      throw std::invalid_argument(describe("domain part ", k, " returned the gradient ", Vec2(g(i, 0), g(i, 1)), " at ",
+                                           Vec2(points(i, 0), points(i, 1)), ": gradients must be finite"));
     }
   }
   return g;
@@ -117,17 +116,17 @@ Stepper::Stepper(Domain domain, const Points& positions, const Points& velocitie
     if (!domain_[k]) throw std::invalid_argument(describe("Stepper: domain part ", k, " is null"));
   }
   if (!(dt > 0) || !std::isfinite(dt)) throw std::invalid_argument(describe("Stepper: dt = ", dt, " must be positive and finite"));
-  if (!gravity.allFinite()) throw std::invalid_argument("Stepper: gravity = " + vec(gravity.x(), gravity.y()) + " must be finite");
+  if (!gravity.allFinite()) throw std::invalid_argument(describe("Stepper: gravity = ", gravity, " must be finite"));
   if (positions.rows() != velocities.rows()) {
     throw std::invalid_argument(describe("Stepper: positions has ", positions.rows(), " rows but velocities has ", velocities.rows(),
                                          "; give one velocity per particle"));
   }
   for (Index i = 0; i < positions.rows(); ++i) {
     if (!positions.row(i).allFinite()) {
-      throw std::invalid_argument(describe("Stepper: positions row ", i, " = ", vec(positions(i, 0), positions(i, 1)), " must be finite"));
+      throw std::invalid_argument(describe("Stepper: positions row ", i, " = ", Vec2(positions(i, 0), positions(i, 1)), " must be finite"));
     }
     if (!velocities.row(i).allFinite()) {
-      throw std::invalid_argument(describe("Stepper: velocities row ", i, " = ", vec(velocities(i, 0), velocities(i, 1)), " must be finite"));
+      throw std::invalid_argument(describe("Stepper: velocities row ", i, " = ", Vec2(velocities(i, 0), velocities(i, 1)), " must be finite"));
     }
   }
   initial_.positions = positions;
@@ -139,7 +138,7 @@ Stepper::Stepper(Domain domain, const Points& positions, const Points& velocitie
   const std::vector<Index> outside = update_parts(domain_, positions, all, initial_.parts);
   if (!outside.empty()) {
     const Index i = outside.front();
-    throw std::invalid_argument(describe("Stepper: positions row ", i, " = ", vec(positions(i, 0), positions(i, 1)),
+    throw std::invalid_argument(describe("Stepper: positions row ", i, " = ", Vec2(positions(i, 0), positions(i, 1)),
                                          " is outside the domain (omega <= 0 for every part); particles must start inside"));
   }
   state_ = initial_;

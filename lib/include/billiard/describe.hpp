@@ -1,0 +1,45 @@
+// Numbers in messages, in one place for the course's checks, the engine and the commands: the
+// shortest text that reads back as the same double (0.1 as "0.1", 1/3 with all its digits), so
+// that a message quotes exactly the value that was refused or found wrong, and no more digits.
+// Like limits.hpp it belongs to neither layer.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cstdio>
+#include <cstdlib>
+#include <ostream>
+#include <sstream>
+#include <string>
+
+namespace billiard {
+
+inline std::string number_text(double x) {
+  char digits[32];
+  // (printf and strtod, not to_chars: the course builds on students' older compilers too.)
+  for (int precision = 1; precision < 17; ++precision) {
+    std::snprintf(digits, sizeof digits, "%.*g", precision, x);
+    if (std::strtod(digits, nullptr) == x) return digits;
+  }
+  std::snprintf(digits, sizeof digits, "%.17g", x);
+  return digits;
+}
+
+namespace detail {
+inline void put(std::ostream& out, double x) { out << number_text(x); }
+inline void put(std::ostream& out, const Eigen::Vector2d& v) { out << '(' << number_text(v.x()) << ", " << number_text(v.y()) << ')'; }
+inline void put(std::ostream& out, const Eigen::RowVector2d& v) { put(out, Eigen::Vector2d(v.transpose())); }
+template <class Part>
+void put(std::ostream& out, const Part& part) { out << part; }
+}  // namespace detail
+
+// Its arguments as one string: doubles by number_text, a point or velocity as (x, y), anything
+// else as it streams.
+template <class... Parts>
+std::string describe(const Parts&... parts) {
+  std::ostringstream out;
+  (detail::put(out, parts), ...);
+  return out.str();
+}
+
+}  // namespace billiard
