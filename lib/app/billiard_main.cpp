@@ -235,13 +235,13 @@ Options parse(int argc, char** argv) {
   if (stage == Stage::Sectors) {
     const double size = options.stage.cell_size;
     if (size < 2 * options.circle_radius) {
-      throw BadInput(text("--cells ", format(size), " must be at least 2 CIRCLE_RADIUS = ", format(2 * options.circle_radius),
+      throw BadInput(text("--cells ", size, " must be at least 2 CIRCLE_RADIUS = ", 2 * options.circle_radius,
                           ", so that circles touch only circles in neighbouring cells"));
     }
     if (2 * options.table_radius / size > billiard::checks::kMaxCellsAcross) {
-      throw BadInput(text("--cells ", format(size), " makes ", format(2 * options.table_radius / size), " cells across the table (at most ",
+      throw BadInput(text("--cells ", size, " makes ", 2 * options.table_radius / size, " cells across the table (at most ",
                           billiard::checks::kMaxCellsAcross, "); use --cells ",
-                          format(2 * options.table_radius / billiard::checks::kMaxCellsAcross), " or more"));
+                          2 * options.table_radius / billiard::checks::kMaxCellsAcross, " or more"));
     }
   }
   if (stage == Stage::Walls) options.stage.walls = read_walls(options.stage.walls_file, options.table_radius);
@@ -477,11 +477,11 @@ void run_stage(const Options& options, billiard::Coordinates& coordinates, billi
     for (long long k = 0; k < options.drift_collisions; ++k) {
       elapsed += stage_step(stage, table_radius, circle_radius, n, coordinates, velocities).time;
     }
-    report.done(task, text(options.drift_collisions, " more collisions, simulated time ", format(elapsed)));
+    report.done(task, text(options.drift_collisions, " more collisions, simulated time ", rounded(elapsed, 6)));
     if (stage.stage == Stage::Sectors && options.drift_collisions > 0) {
       const double per_collision = double(pair_time_calls() - pair_tests_before) / double(options.drift_collisions);
       const double all_pairs = 0.5 * n * (n - 1);
-      report.done(task, text("pair tests per collision: ", format(per_collision, 4), " (all pairs: ", thousands(std::llround(all_pairs)),
+      report.done(task, text("pair tests per collision: ", rounded(per_collision, 4), " (all pairs: ", thousands(std::llround(all_pairs)),
                              per_collision > 0 ? text(", ", thousands(std::llround(all_pairs / per_collision)), "x fewer)")
                                                : std::string("; none counted: test pairs with pair_time)")));
     }
@@ -493,8 +493,8 @@ void run_stage(const Options& options, billiard::Coordinates& coordinates, billi
     try {
       const double after = conserved();
       const double scale = std::abs(*before) > 0 ? std::abs(*before) : 1.0;
-      report.done(conserved_task, text(conserved_name, " before ", format(*before, 12), ", after ", format(after, 12),
-                                       ", relative drift ", format(std::abs(after - *before) / scale, 3)));
+      report.done(conserved_task, text(conserved_name, " before ", rounded(*before, 12), ", after ", rounded(after, 12),
+                                       ", relative drift ", rounded(std::abs(after - *before) / scale, 3)));
     } catch (const std::exception& error) {
       report.failed(task_of(error, conserved_task), error);
     }
@@ -530,7 +530,7 @@ int run(const Options& options, Staging& staging) {
 
   std::cout << "billiard: " << n << (n == 1 ? " circle" : " circles") << " of radius " << circle_radius
             << " on a table of radius " << table_radius << " (area fraction "
-            << format(n * circle_radius * circle_radius / (table_radius * table_radius), 3) << "), seed "
+            << rounded(n * circle_radius * circle_radius / (table_radius * table_radius), 3) << "), seed "
             << options.seed << "\n";
   if (!coordinates) {
     for (int task : stage == Stage::None ? std::vector<int>{2, 3, 4, 5, 6} : std::vector<int>{2, 3, task_number(stage)}) {
@@ -590,14 +590,14 @@ int run(const Options& options, Staging& staging) {
       elapsed += propagate(table_radius, circle_radius, n, *coordinates, *velocities).time;
     }
     if (advanced) {
-      report.done(4, std::to_string(options.drift_collisions) + " more collisions, simulated time " + format(elapsed));
+      report.done(4, std::to_string(options.drift_collisions) + " more collisions, simulated time " + rounded(elapsed, 6));
     }
   } catch (const std::exception& error) {
     report.failed(4, error);
     advanced = false;
   }
   if (before && !(advanced && *before > 0)) {
-    report.done(6, "<v^2> = " + format(*before, 12) + " at the start" +
+    report.done(6, "<v^2> = " + rounded(*before, 12) + " at the start" +
                        (moving ? "; the drift report " + Report::waiting_for(4) : std::string("; nothing moves, no drift")));
   }
   if (before && advanced && *before > 0) {
@@ -605,9 +605,9 @@ int run(const Options& options, Staging& staging) {
       const double after = kinetic_energy(n, *velocities);
       correct_energy_drift(n, *velocities, *before);
       const double corrected = kinetic_energy(n, *velocities);
-      report.done(6, "<v^2> before " + format(*before, 12) + ", after " + format(after, 12));
-      report.done(6, "relative drift " + format(std::abs(after - *before) / *before, 3) + " without correction, " +
-                         format(std::abs(corrected - *before) / *before, 3) + " after correct_energy_drift");
+      report.done(6, "<v^2> before " + rounded(*before, 12) + ", after " + rounded(after, 12));
+      report.done(6, "relative drift " + rounded(std::abs(after - *before) / *before, 3) + " without correction, " +
+                         rounded(std::abs(corrected - *before) / *before, 3) + " after correct_energy_drift");
     } catch (const std::exception& error) {
       report.failed(6, error);
     }

@@ -2,6 +2,8 @@
 // and the error for bad input.
 #pragma once
 
+#include "billiard/describe.hpp"
+
 #include <charconv>
 #include <cmath>
 #include <sstream>
@@ -16,11 +18,11 @@ struct BadInput : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// One line of a message or a report; numbers as billiard::describe quotes them (exactly, in the
+// shortest text), so that an error repeats the value the user gave.
 template <typename... Parts>
 std::string text(const Parts&... parts) {
-  std::ostringstream out;
-  (out << ... << parts);
-  return out.str();
+  return billiard::describe(parts...);
 }
 
 // 2000000 -> "2,000,000".
@@ -60,7 +62,9 @@ inline bool read_number(std::string_view word, double& number) {
   return error == std::errc() && end == word.data() + word.size() && std::isfinite(number);
 }
 
-inline std::string format(double value, int precision = 6) {
+// A figure of a report to `precision` significant digits (a message quotes numbers exactly:
+// text()).
+inline std::string rounded(double value, int precision) {
   std::ostringstream out;
   out.precision(precision);
   out << value;

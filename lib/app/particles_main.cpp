@@ -154,23 +154,23 @@ class Reader {
 
     if (lines.size() < 2) fail(2, "the file ends after line 1; line 2 must hold the radius");
     input.radius = number(fields(lines[1], 2, 1, "the radius")[0], 2, "the radius");
-    if (!(input.radius > 0)) fail(2, text("the radius must be positive, got ", billiard_cli::format(input.radius)));
+    if (!(input.radius > 0)) fail(2, text("the radius must be positive, got ", input.radius));
 
     if (lines.size() < 3) fail(3, "the file ends after line 2; line 3 must hold the box lengths Lx Ly");
     const auto box = fields(lines[2], 3, 2, "the box lengths Lx Ly");
     input.lx = number(box[0], 3, "Lx");
     input.ly = number(box[1], 3, "Ly");
-    if (!(input.lx > 0)) fail(3, text("the box length Lx must be positive, got ", billiard_cli::format(input.lx)));
-    if (!(input.ly > 0)) fail(3, text("the box length Ly must be positive, got ", billiard_cli::format(input.ly)));
+    if (!(input.lx > 0)) fail(3, text("the box length Lx must be positive, got ", input.lx));
+    if (!(input.ly > 0)) fail(3, text("the box length Ly must be positive, got ", input.ly));
     const double extent = std::max(input.lx, input.ly);
     if (input.radius < kRelativeRadius * extent) {
-      fail(2, text("the radius ", billiard_cli::format(input.radius), " is too small for a box of ", billiard_cli::format(extent),
+      fail(2, text("the radius ", input.radius, " is too small for a box of ", extent,
                    ": it must be at least 1e-6 max(Lx, Ly) (positions are computed to about 1e-16 of the box)"));
     }
     const double diameter = 2 * input.radius;
     if (diameter > input.lx || diameter > input.ly) {
-      fail(2, text("the radius ", billiard_cli::format(input.radius), " is too large for the box ", billiard_cli::format(input.lx), " x ",
-                   billiard_cli::format(input.ly), ": a particle needs 2 R <= Lx and 2 R <= Ly"));
+      fail(2, text("the radius ", input.radius, " is too large for the box ", input.lx, " x ",
+                   input.ly, ": a particle needs 2 R <= Lx and 2 R <= Ly"));
     }
 
     const auto n = static_cast<std::size_t>(input.n);
@@ -187,12 +187,12 @@ class Reader {
       for (int k = 0; k < 4; ++k) input.values[4 * i + k] = number(words[k], line, text(names[k], " of particle ", i));
       const double x = input.values[4 * i], y = input.values[4 * i + 1];
       if (x < 0 || x > input.lx || y < 0 || y > input.ly) {
-        fail(line, text("particle ", i, " at (", billiard_cli::format(x), ", ", billiard_cli::format(y), ") is outside the box [0, ",
-                        billiard_cli::format(input.lx), "] x [0, ", billiard_cli::format(input.ly), "]"));
+        fail(line, text("particle ", i, " at (", x, ", ", y, ") is outside the box [0, ",
+                        input.lx, "] x [0, ", input.ly, "]"));
       }
       if (x < r || input.lx - x < r || y < r || input.ly - y < r) {
-        fail(line, text("particle ", i, " at (", billiard_cli::format(x), ", ", billiard_cli::format(y),
-                        ") overlaps a wall: its centre must be at least the radius ", billiard_cli::format(r), " from every wall"));
+        fail(line, text("particle ", i, " at (", x, ", ", y,
+                        ") overlaps a wall: its centre must be at least the radius ", r, " from every wall"));
       }
     }
     if (lines.size() > 3 + n) {
@@ -225,7 +225,7 @@ class Reader {
             const double squared = ex * ex + ey * ey;
             if (squared < contact) {
               fail(4 + i, text("particle ", i, " overlaps particle ", j, " (line ", 4 + j, "): centres ",
-                               billiard_cli::format(std::sqrt(squared)), " apart, less than 2 R = ", billiard_cli::format(cell),
+                               std::sqrt(squared), " apart, less than 2 R = ", cell,
                                "; move one of them"));
             }
           }
@@ -281,9 +281,9 @@ Options parse(int argc, char** argv) {
 // gives each particle's counts.
 std::string run(const Input& input, const Options& options) {
   const auto n = static_cast<std::size_t>(input.n);
-  billiard::Simulation sim;
-  sim.add_box({0, 0}, {input.lx, input.ly});
-  if (!options.physical) sim.set_exchange_velocities(true);
+  billiard::Settings settings;
+  settings.exchange_velocities = !options.physical;
+  billiard::Simulation sim(billiard::box({0, 0}, {input.lx, input.ly}), settings);
   if (n > 0) {
     billiard::Points positions(static_cast<Eigen::Index>(n), 2), velocities(static_cast<Eigen::Index>(n), 2);
     for (std::size_t i = 0; i < n; ++i) {
@@ -314,8 +314,8 @@ std::string run(const Input& input, const Options& options) {
     total += result.collisions;
     if (result.stuck) throw std::runtime_error(result.stuck_reason);
     if (total > kMaxCollisions) {
-      throw BadInput(text("END_TIME ", billiard_cli::format(options.end_time), " is too far: more than ", thousands(kMaxCollisions),
-                          " collisions before time ", billiard_cli::format(sim.time()), "; choose a smaller END_TIME"));
+      throw BadInput(text("END_TIME ", options.end_time, " is too far: more than ", thousands(kMaxCollisions),
+                          " collisions before time ", sim.time(), "; choose a smaller END_TIME"));
     }
     if (result.collisions < kEventsPerChunk) break;
   }

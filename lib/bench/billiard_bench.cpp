@@ -38,6 +38,7 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -62,18 +63,16 @@ double now_seconds() {
 void granular_settling(const std::string& container, long n, double restitution, double duration) {
   const double kPi = 3.14159265358979323846;
   const double area = static_cast<double>(n) * kPi / 0.3;
-  billiard::Simulation sim;
-  if (container == "box") {
-    // About 2.9 times as high as wide, and a whole number of diameters wide: a bottom row can fill
-    // the floor exactly, the hardest case (without sleeping it rattles ever faster).
-    const double width = 2 * std::floor(std::sqrt(area / 2.9) / 2);
-    sim.add_box(Vec2(0, 0), Vec2(width, area / width));
-  } else {
-    sim.set_circular_table(std::sqrt(area / kPi));
-  }
-  sim.set_gravity(Vec2(0, -1));
+  // About 2.9 times as high as wide, and a whole number of diameters wide: a bottom row can fill
+  // the floor exactly, the hardest case (without sleeping it rattles ever faster).
+  const double width = 2 * std::floor(std::sqrt(area / 2.9) / 2);
+  billiard::Settings settings;
+  settings.gravity = Vec2(0, -1);
+  settings.restitution.normal = restitution;
+  billiard::Simulation sim(container == "box" ? billiard::box(Vec2(0, 0), Vec2(width, area / width))
+                                              : billiard::circular_table(std::sqrt(area / kPi)),
+                           settings);
   sim.add_random_discs(static_cast<int>(n), 1.0, 1.0, 1.0, 11);
-  sim.set_restitution(restitution);
   const double start = now_seconds();
   double collisions = 0;
   std::printf("%-9s %9ld %11.2f", container.c_str(), n, restitution);
@@ -126,13 +125,13 @@ billiard::Points lattice(long n, double spacing, const Vec2& origin, long per_ro
   return points;
 }
 
-// --prefetch: Simulation::set_prefetch_ahead for every system (default automatic).
-billiard::Simulation::Prefetch prefetch_mode = billiard::Simulation::Prefetch::Automatic;
+// --prefetch: Settings::prefetch for every system (default automatic).
+billiard::Prefetch prefetch_mode = billiard::Prefetch::Automatic;
 
 billiard::Simulation make_system(const std::string& container, long n, double density, bool gravity,
                                  double cell, std::mt19937_64& rng) {
   const double area = static_cast<double>(n) * M_PI / density;  // radius 1
-  billiard::Simulation sim;
+  std::optional<billiard::Container> shape;
   billiard::Points positions;
   // Curved containers: a square lattice clipped to the points whose discs fit (clear of the walls
   // by 1e-7), the spacing shrunk until n fit.
@@ -141,14 +140,14 @@ billiard::Simulation make_system(const std::string& container, long n, double de
   double fitting_area = 0;  // roughly where centres fit: the first spacing tried fills it
   if (container == "table") {
     const double radius = std::sqrt(area / M_PI);
-    sim.set_circular_table(radius);
+    shape = billiard::circular_table(radius);
     fits = [radius](const Vec2& p) { return p.norm() <= radius - 1.0000001; };
     reach = radius;
     fitting_area = M_PI * (radius - 1) * (radius - 1);
   } else if (container == "stadium") {
     // Straight sides as long as the diameter: area = (pi + 4) R^2.
     const double radius = std::sqrt(area / (M_PI + 4));
-    sim.add_stadium(Vec2(0, 0), radius, 2 * radius);
+    shape = billiard::stadium(Vec2(0, 0), radius, 2 * radius);
     fits = [radius](const Vec2& p) {
       const Vec2 nearest_centre(std::clamp(p.x(), -radius, radius), 0.0);
       return (p - nearest_centre).norm() <= radius - 1.0000001;
@@ -158,7 +157,7 @@ billiard::Simulation make_system(const std::string& container, long n, double de
   } else if (container == "sinai") {
     // A square of side s with an obstacle of radius s / 4 in the middle: area = (1 - pi / 16) s^2.
     const double side = std::sqrt(area / (1 - M_PI / 16));
-    sim.add_sinai_billiard(Vec2(-side / 2, -side / 2), Vec2(side / 2, side / 2), side / 4);
+    shape = billiard::sinai_billiard(Vec2(-side / 2, -side / 2), Vec2(side / 2, side / 2), side / 4);
     fits = [side](const Vec2& p) {
       return p.cwiseAbs().maxCoeff() <= side / 2 - 1.0000001 && p.norm() >= side / 4 + 1.0000001;
     };
@@ -196,18 +195,20 @@ billiard::Simulation make_system(const std::string& container, long n, double de
                              " at area fraction " + (std::ostringstream() << density).str() + " (lattice start); use a lower --density or a larger --n");
     }
     if (container == "periodic") {
-      sim.set_periodic_box(side, side);
+      shape = billiard::periodic_box(side, side);
     } else {
-      sim.add_box(Vec2(0, 0), Vec2(side, side));
+      shape = billiard::box(Vec2(0, 0), Vec2(side, side));
     }
     positions = lattice(n, spacing, Vec2(0, 0), per_row);
   }
   std::normal_distribution<double> normal(0.0, 1.0);
   billiard::Points velocities(n, 2);
   for (long k = 0; k < n; ++k) velocities.row(k) << normal(rng), normal(rng);
-  if (gravity) sim.set_gravity(Vec2(0, -0.1));  // weak: a fall of 10 radii gains a speed ~1.4
-  if (cell > 0) sim.set_cell_size(cell);
-  sim.set_prefetch_ahead(prefetch_mode);
+  billiard::Settings settings;
+  if (gravity) settings.gravity = Vec2(0, -0.1);  // weak: a fall of 10 radii gains a speed ~1.4
+  if (cell > 0) settings.cell_size = cell;
+  settings.prefetch = prefetch_mode;
+  billiard::Simulation sim(*shape, settings);
   sim.add_discs(positions, velocities, 1.0, 1.0);
   return sim;
 }
@@ -288,9 +289,9 @@ int run(int argc, char** argv) {
       else if (arg == "--cell") cell = std::stod(value());
       else if (arg == "--prefetch") {
         const std::string mode = value();
-        if (mode == "auto") prefetch_mode = billiard::Simulation::Prefetch::Automatic;
-        else if (mode == "on") prefetch_mode = billiard::Simulation::Prefetch::On;
-        else if (mode == "off") prefetch_mode = billiard::Simulation::Prefetch::Off;
+        if (mode == "auto") prefetch_mode = billiard::Prefetch::Automatic;
+        else if (mode == "on") prefetch_mode = billiard::Prefetch::On;
+        else if (mode == "off") prefetch_mode = billiard::Prefetch::Off;
         else {
           std::cerr << "billiard_bench: --prefetch takes auto, on or off, got '" << mode << "'\n";
           return 2;

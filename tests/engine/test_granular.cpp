@@ -24,15 +24,21 @@ constexpr double kPi = 3.14159265358979323846;
 
 double total_energy(const billiard::Simulation& sim) { return sim.kinetic_energy() + sim.potential_energy(); }
 
+billiard::Settings granular(double restitution, const Vec2& gravity = Vec2::Zero()) {
+  billiard::Settings settings;
+  settings.restitution.normal = restitution;
+  settings.gravity = gravity;
+  return settings;
+}
+
 // Two discs of radius 1 on the x axis in a large box, approaching head-on at relative speed u;
 // returns their relative speed after their collision.
 double speed_after_head_on(double u, double restitution, double elastic_impact_speed) {
-  billiard::Simulation sim;
-  sim.add_box(Vec2(-100, -100), Vec2(100, 100));
+  billiard::Settings settings = granular(restitution);
+  settings.elastic_impact_speed = elastic_impact_speed;
+  billiard::Simulation sim(billiard::box(Vec2(-100, -100), Vec2(100, 100)), settings);
   sim.add_disc(make_disc(Vec2(-5, 0), Vec2(u / 2, 0)));
   sim.add_disc(make_disc(Vec2(5, 0), Vec2(-u / 2, 0)));
-  sim.set_restitution(restitution);
-  sim.set_elastic_impact_speed(elastic_impact_speed);
   sim.advance(1);
   const billiard::State s = sim.current_state();
   return s.velocities(1, 0) - s.velocities(0, 0);
@@ -55,13 +61,12 @@ TEST(Granular, CollisionSoonAfterAnotherIsElasticInTheTcModel) {
   // With a contact duration of 10 that collision is elastic (B stops, C takes 0.75); with 5 it
   // keeps half of the relative speed (B 0.1875, C 0.5625).
   for (const double duration : {10.0, 5.0}) {
-    billiard::Simulation sim;
-    sim.add_box(Vec2(0, 0), Vec2(100, 100));
+    billiard::Settings settings = granular(0.5);
+    settings.contact_duration = duration;
+    billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(100, 100)), settings);
     sim.add_disc(make_disc(Vec2(3, 50), Vec2(1, 0)));
     sim.add_disc(make_disc(Vec2(6, 50), Vec2(0, 0)));
     sim.add_disc(make_disc(Vec2(14, 50), Vec2(0, 0)));
-    sim.set_restitution(0.5);
-    sim.set_contact_duration(duration);
     sim.advance(2);
     EXPECT_NEAR(sim.time(), 9.0, 1e-12);
     const billiard::State s = sim.current_state();
@@ -78,12 +83,11 @@ TEST(Granular, WallHitDoesNotMakeALaterDiscCollisionElastic) {
   // wall x = 0 at t = 2 (bouncing at 0.5), then reaches B, at rest at x = 10, at t = 16, 14 after
   // its wall hit: with a contact duration of 20 that collision still keeps half of the relative
   // speed (A 0.125, B 0.375).
-  billiard::Simulation sim;
-  sim.add_box(Vec2(0, 0), Vec2(100, 100));
+  billiard::Settings settings = granular(0.5);
+  settings.contact_duration = 20.0;
+  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(100, 100)), settings);
   sim.add_disc(make_disc(Vec2(3, 50), Vec2(-1, 0)));
   sim.add_disc(make_disc(Vec2(10, 50), Vec2(0, 0)));
-  sim.set_restitution(0.5);
-  sim.set_contact_duration(20.0);
   sim.advance(2);
   EXPECT_NEAR(sim.time(), 16.0, 1e-12);
   const billiard::State s = sim.current_state();
@@ -92,10 +96,8 @@ TEST(Granular, WallHitDoesNotMakeALaterDiscCollisionElastic) {
 }
 
 TEST(Granular, AutomaticValuesAndRefusals) {
-  billiard::Simulation sim;
-  sim.set_periodic_box(50, 50);
+  billiard::Simulation sim(billiard::periodic_box(50, 50), granular(0.7));
   sim.add_random_discs(100, 0.5, 1.0, 2.0, 3);  // kT = 2: rms speed 2 (2D, mass 1)
-  sim.set_restitution(0.7);
   for (const double bad : {-1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
     EXPECT_THROW(sim.set_contact_duration(bad), std::invalid_argument);
     EXPECT_THROW(sim.set_elastic_impact_speed(bad), std::invalid_argument);
@@ -105,6 +107,14 @@ TEST(Granular, AutomaticValuesAndRefusals) {
   } catch (const std::invalid_argument& refused) {
     EXPECT_NE(std::string(refused.what()).find("duration"), std::string::npos) << refused.what();
   }
+  // The same values given as settings are refused when the simulation is made.
+  for (const double bad : {-1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    billiard::Settings duration = granular(0.7), speed = granular(0.7);
+    duration.contact_duration = bad;
+    speed.elastic_impact_speed = bad;
+    EXPECT_THROW(billiard::Simulation(billiard::periodic_box(50, 50), duration), std::invalid_argument);
+    EXPECT_THROW(billiard::Simulation(billiard::periodic_box(50, 50), speed), std::invalid_argument);
+  }
   sim.advance(10);
   // 1e-4 mean radius / rms speed; no gravity: the slow-impact rule is off.
   EXPECT_NEAR(sim.contact_duration(), 1e-4 * 0.5 / 2.0, 1e-15);
@@ -112,9 +122,9 @@ TEST(Granular, AutomaticValuesAndRefusals) {
   sim.set_contact_duration(0.25);  // may change while running, like the restitution
   EXPECT_EQ(sim.contact_duration(), 0.25);
 
-  billiard::Simulation falling;
-  falling.add_box(Vec2(0, 0), Vec2(20, 20));
-  falling.set_gravity(Vec2(0, -4));
+  billiard::Settings downwards;
+  downwards.gravity = Vec2(0, -4);
+  billiard::Simulation falling(billiard::box(Vec2(0, 0), Vec2(20, 20)), downwards);
   falling.add_disc(make_disc(Vec2(10, 10), Vec2(0, 0), 2.0));
   falling.advance(1);
   // sqrt(2 |g| h), h = kRestingBounce mean radii; under gravity the duration is at least
@@ -165,15 +175,10 @@ void settles_to_a_packed_bed(const Settling p) {
   // Starting area fraction about 0.3. The box is 60 wide, a whole number of diameters: a row of
   // 30 discs fills its floor exactly, the hardest case (no room to move sideways).
   const double width = 60, table_radius = 58;
-  billiard::Simulation sim;
-  if (std::string(p.container) == "box") {
-    sim.add_box(Vec2(0, 0), Vec2(width, 175));
-  } else {
-    sim.set_circular_table(table_radius);
-  }
-  sim.set_gravity(Vec2(0, -1));
+  billiard::Simulation sim(std::string(p.container) == "box" ? billiard::box(Vec2(0, 0), Vec2(width, 175))
+                                                             : billiard::circular_table(table_radius),
+                           granular(p.restitution, Vec2(0, -1)));
   sim.add_random_discs(n, 1.0, 1.0, 1.0, 11);
-  sim.set_restitution(p.restitution);
   sim.set_check_event_discs(true);
   const double tolerance = 1e-12 * std::abs(total_energy(sim));
   double energy = total_energy(sim);
@@ -220,10 +225,8 @@ TEST(Granular, FreelyCoolingGasFollowsHaffsLaw) {
   // slowly leaves the homogeneous state as clusters start to form).
   const int n = 10000;
   const double e = 0.9, side = std::sqrt(n * kPi / 0.05);
-  billiard::Simulation sim;
-  sim.set_periodic_box(side, side);
+  billiard::Simulation sim(billiard::periodic_box(side, side), granular(e));
   sim.add_random_discs(n, 1.0, 1.0, 1.0, 5);
-  sim.set_restitution(e);
   const double t0 = sim.kinetic_energy();
   std::int64_t disc_collisions = 0;
   for (int step = 1; step <= 8; ++step) {
@@ -241,10 +244,8 @@ TEST(Granular, FreelyCoolingDenseGasReaches100CollisionsPerDiscValid) {
   // energy never rising, validate() clean every 10 collisions per disc.
   const int n = 10000;
   const double side = std::sqrt(n * kPi / 0.3);
-  billiard::Simulation sim;
-  sim.set_periodic_box(side, side);
+  billiard::Simulation sim(billiard::periodic_box(side, side), granular(0.5));
   sim.add_random_discs(n, 1.0, 1.0, 1.0, 3);
-  sim.set_restitution(0.5);
   sim.set_check_event_discs(true);
   double energy = sim.kinetic_energy();
   std::int64_t disc_collisions = 0;
@@ -264,17 +265,21 @@ namespace {
 
 // Three discs in a channel 2.2 wide (one disc across): the left one at speed 1 towards two at
 // rest, restitution 0.05, below the three-body collapse threshold 7 - 4 sqrt(3) = 0.072
-// (McNamara & Young 1994). Returns the collision times up to t = 20.
-std::vector<double> three_disc_channel(std::optional<double> contact_duration, billiard::Simulation& sim) {
-  sim.add_box(Vec2(0, 0), Vec2(100, 2.2));
+// (McNamara & Young 1994). Runs to t = 20 with the event log on.
+billiard::Simulation three_disc_channel(std::optional<double> contact_duration) {
+  billiard::Settings settings = granular(0.05);
+  settings.contact_duration = contact_duration;
+  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(100, 2.2)), settings);
   sim.add_disc(make_disc(Vec2(10, 1.1), Vec2(1, 0)));
   sim.add_disc(make_disc(Vec2(12.5, 1.1), Vec2(0, 0)));
   sim.add_disc(make_disc(Vec2(15, 1.1), Vec2(0, 0)));
-  sim.set_restitution(0.05);
-  sim.set_contact_duration(contact_duration);
   sim.enable_event_log(true);
   const billiard::AdvanceResult r = sim.advance(1000000, 20.0);
   EXPECT_FALSE(r.stuck) << r.stuck_reason;
+  return sim;
+}
+
+std::vector<double> collision_times(const billiard::Simulation& sim) {
   std::vector<double> times;
   for (const billiard::EventRecord& event : sim.event_log()) times.push_back(event.time);
   return times;
@@ -285,8 +290,7 @@ std::vector<double> three_disc_channel(std::optional<double> contact_duration, b
 TEST(Granular, ThreeDiscCollapseInANarrowChannel) {
   // Without the model: the collapse. Intervals between collisions shrink by a constant factor
   // (the ratio settles to within 1e-3) until they reach rounding.
-  billiard::Simulation bare;
-  const std::vector<double> collapse = three_disc_channel(0.0, bare);
+  const std::vector<double> collapse = collision_times(three_disc_channel(0.0));
   ASSERT_GE(collapse.size(), 20u);
   double smallest = collapse[1] - collapse[0];
   double ratio = 0;
@@ -306,8 +310,8 @@ TEST(Granular, ThreeDiscCollapseInANarrowChannel) {
 
   // With the model (the default): a handful of collisions, a valid state, momentum kept (the
   // discs move together at 1/3), and the energy of a perfectly inelastic merger, 1/6, not more.
-  billiard::Simulation sim;
-  const std::vector<double> handled = three_disc_channel(std::nullopt, sim);
+  billiard::Simulation sim = three_disc_channel(std::nullopt);
+  const std::vector<double> handled = collision_times(sim);
   EXPECT_LE(handled.size(), 20u);
   EXPECT_EQ(sim.validate(), std::nullopt);
   const billiard::State s = sim.current_state();
@@ -320,14 +324,12 @@ namespace {
 // 200 discs in the box (0,0)-(40,40) under gravity (0, -1), restitution 0.8, with the granular
 // model off: the bed collapses inelastically within a few time units.
 billiard::Simulation collapsing_bed() {
-  billiard::Simulation sim;
-  sim.add_box(Vec2(0, 0), Vec2(40, 40));
-  sim.set_gravity(Vec2(0, -1));
+  billiard::Settings settings = granular(0.8, Vec2(0, -1));
+  settings.contact_duration = 0.0;
+  settings.elastic_impact_speed = 0.0;
+  settings.sleep_speed = 0.0;
+  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(40, 40)), settings);
   sim.add_random_discs(200, 1.0, 1.0, 1.0, 7);
-  sim.set_restitution(0.8);
-  sim.set_contact_duration(0.0);
-  sim.set_elastic_impact_speed(0.0);
-  sim.set_sleep_speed(0.0);
   return sim;
 }
 }  // namespace
@@ -365,11 +367,8 @@ TEST(Granular, StoppingAndGoingOnChangesNothing) {
   // A settling granular bed run in pieces (stopped by collision counts and by durations) ends
   // bit for bit where one uninterrupted run does: a stop changes no disc and no model state.
   auto make = [] {
-    billiard::Simulation sim;
-    sim.set_circular_table(22);
-    sim.set_gravity(Vec2(0, -1));
+    billiard::Simulation sim(billiard::circular_table(22), granular(0.8, Vec2(0, -1)));
     sim.add_random_discs(200, 1.0, 1.0, 1.0, 7);
-    sim.set_restitution(0.8);
     return sim;
   };
   billiard::Simulation whole = make();

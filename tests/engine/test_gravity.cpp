@@ -12,6 +12,14 @@
 using billiard::Vec2;
 using engine_test::make_disc;
 
+namespace {
+billiard::Settings with_gravity(const Vec2& g) {
+  billiard::Settings settings;
+  settings.gravity = g;
+  return settings;
+}
+}  // namespace
+
 TEST(Gravity, FreeFallOntoAFloorBouncesEveryTwoVOverG) {
   // Box [0, 100]^2, g = 10 downwards, radius 1 released at rest with its lowest point 20 above the
   // floor: lands at t = sqrt(2 h / g) = 2 with speed v = g t = 20, and (elastic) bounces back to
@@ -21,9 +29,7 @@ TEST(Gravity, FreeFallOntoAFloorBouncesEveryTwoVOverG) {
   // accumulates over the bounces.
   const double h = 20 + billiard::Simulation::kFixedContactSlack;
   const double v = std::sqrt(2 * 10 * h);
-  billiard::Simulation sim;
-  sim.add_box(Vec2(0, 0), Vec2(100, 100));
-  sim.set_gravity(Vec2(0, -10));
+  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(100, 100)), with_gravity(Vec2(0, -10)));
   sim.add_disc(make_disc(Vec2(50, 21), Vec2(0, 0)));
   sim.enable_event_log(true);
   sim.advance(5);
@@ -40,9 +46,7 @@ TEST(Gravity, DiscDroppedInTheCircularTable) {
   // at t = 6 and lands again at t = 9: landings every 6. With the fixed contact slack the reach is
   // 9 + 1e-10: t = sqrt(reach), every 2 sqrt(reach).
   const double reach = 9 + billiard::Simulation::kFixedContactSlack;
-  billiard::Simulation sim;
-  sim.set_circular_table(10);
-  sim.set_gravity(Vec2(0, -2));
+  billiard::Simulation sim(billiard::circular_table(10), with_gravity(Vec2(0, -2)));
   sim.add_disc(make_disc(Vec2(0, 0), Vec2(0, 0)));
   sim.enable_event_log(true);
   sim.advance(3);
@@ -56,9 +60,7 @@ TEST(Gravity, DiscDroppedInTheCircularTable) {
 TEST(Gravity, SidewaysGravityAnyDirection) {
   // Gravity along +x of 8: from rest at x = 5 in the box [0, 20]^2 (radius 1), the wall x = 20 is
   // reached when 14 = 4 t^2: t = sqrt(3.5) (14 + 1e-10 with the fixed contact slack).
-  billiard::Simulation sim;
-  sim.add_box(Vec2(0, 0), Vec2(20, 20));
-  sim.set_gravity(Vec2(8, 0));
+  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), with_gravity(Vec2(8, 0)));
   sim.add_disc(make_disc(Vec2(5, 10), Vec2(0, 0)));
   sim.enable_event_log(true);
   sim.advance(1);
@@ -89,26 +91,21 @@ void random_gravity_run(billiard::Simulation& sim, int n, std::int64_t events, s
 }  // namespace
 
 TEST(Gravity, RandomRunInABoxKeepsEnergyAndNeverOverlaps) {
-  billiard::Simulation sim;
-  sim.add_box(Vec2(0, 0), Vec2(20, 20));
-  sim.set_gravity(Vec2(0.3, -1));
+  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), with_gravity(Vec2(0.3, -1)));
   random_gravity_run(sim, 40, 20000, 21, Vec2(0, 0), Vec2(20, 20), false, 0);
 }
 
 TEST(Gravity, RandomRunInTheTableKeepsEnergyAndNeverOverlaps) {
-  billiard::Simulation sim;
-  sim.set_circular_table(12);
-  sim.set_gravity(Vec2(0, -1));
+  billiard::Simulation sim(billiard::circular_table(12), with_gravity(Vec2(0, -1)));
   random_gravity_run(sim, 40, 20000, 22, Vec2(-12, -12), Vec2(12, 12), true, 12);
 }
 
 TEST(Gravity, RandomRunWithPolygonCornersAndFreeEnds) {
   // A funnel: segment end points meet the discs under gravity (quartic disc-point times).
-  billiard::Simulation sim;
-  sim.add_box(Vec2(0, 0), Vec2(30, 30));
-  sim.add_segment(Vec2(3, 15), Vec2(13, 10));
-  sim.add_segment(Vec2(27, 15), Vec2(17, 10));
-  sim.set_gravity(Vec2(0, -1));
+  billiard::Container funnel = billiard::box(Vec2(0, 0), Vec2(30, 30));
+  funnel.add_segment(Vec2(3, 15), Vec2(13, 10));
+  funnel.add_segment(Vec2(27, 15), Vec2(17, 10));
+  billiard::Simulation sim(funnel, with_gravity(Vec2(0, -1)));
   std::mt19937_64 rng(23);
   const auto discs = engine_test::random_discs(rng, 30, 0.5, 1.0, Vec2(0, 0), Vec2(30, 30), [&](const Vec2& p, double a) {
     return p.x() >= a && p.x() <= 30 - a && p.y() >= a && p.y() <= 30 - a &&

@@ -22,13 +22,9 @@ double largest_difference(const billiard::State& a, const billiard::State& b) {
 
 billiard::Simulation logged_run(bool periodic) {
   std::mt19937_64 rng(periodic ? 7 : 8);
-  billiard::Simulation sim;
-  if (periodic) {
-    sim.set_periodic_box(20, 20);
-  } else {
-    sim.add_box(Vec2(0, 0), Vec2(20, 20));
-    sim.set_gravity(Vec2(0.1, -0.3));
-  }
+  billiard::Settings settings;
+  if (!periodic) settings.gravity = Vec2(0.1, -0.3);
+  billiard::Simulation sim(periodic ? billiard::periodic_box(20, 20) : billiard::box(Vec2(0, 0), Vec2(20, 20)), settings);
   const auto discs = engine_test::random_discs(rng, 25, 0.5, 1.0, Vec2(0, 0), Vec2(20, 20), [](const Vec2& p, double a) {
     return p.x() >= a && p.x() <= 20 - a && p.y() >= a && p.y() <= 20 - a;
   });
@@ -83,8 +79,7 @@ TEST(Replay, ATwoDiscHeadOnRunByHand) {
   // Discs of radius 1 at x = 2 and 8 (y = 5) in a 10 x 10 box, approaching at speed 1 each:
   // contact at t = 2 (gap 6 - 2 = 4 closed at relative speed 2), then they fly back and hit
   // the walls at t = 2 + 4 = 6 (x = 1 and 9).
-  billiard::Simulation sim;
-  sim.add_box(Vec2(0, 0), Vec2(10, 10));
+  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(10, 10)));
   billiard::Disc a;
   a.position = Vec2(2, 5);
   a.velocity = Vec2(1, 0);

@@ -11,11 +11,24 @@
 using billiard::Vec2;
 using engine_test::make_disc;
 
+namespace {
+billiard::Settings with_restitution(double normal, double tangential = -1.0) {
+  billiard::Settings settings;
+  settings.restitution = {normal, tangential};
+  return settings;
+}
+
+billiard::Settings exchanging() {
+  billiard::Settings settings;
+  settings.exchange_velocities = true;
+  return settings;
+}
+}  // namespace
+
 TEST(Rough, UnequalMassesHeadOn) {
   // m = 1 at x = -5 moving +2, m = 3 at rest at x = 5 (radius 1): contact at t = 4; elastic 1D
   // result v1 = (1 - 3) / 4 * 2 = -1, v2 = 2 * 1 / 4 * 2 = 1.
-  billiard::Simulation sim;
-  sim.add_box(Vec2(-20, -20), Vec2(20, 20));
+  billiard::Simulation sim(billiard::box(Vec2(-20, -20), Vec2(20, 20)));
   sim.add_disc(make_disc(Vec2(-5, 0), Vec2(2, 0), 1.0, 1.0));
   sim.add_disc(make_disc(Vec2(5, 0), Vec2(0, 0), 1.0, 3.0));
   sim.enable_event_log(true);
@@ -29,8 +42,7 @@ TEST(Rough, UnequalMassesHeadOn) {
 TEST(Rough, UnequalRadiiMeetAtTheSumOfRadii) {
   // Radii 0.5 and 2 at x = 0 and x = 10, approaching at relative speed 3: the gap of 7.5 closes
   // at t = 2.5.
-  billiard::Simulation sim;
-  sim.add_box(Vec2(-20, -20), Vec2(20, 20));
+  billiard::Simulation sim(billiard::box(Vec2(-20, -20), Vec2(20, 20)));
   sim.add_disc(make_disc(Vec2(0, 0), Vec2(1, 0), 0.5));
   sim.add_disc(make_disc(Vec2(10, 0), Vec2(-2, 0), 2.0));
   sim.enable_event_log(true);
@@ -42,11 +54,9 @@ TEST(Rough, UnequalRadiiMeetAtTheSumOfRadii) {
 TEST(Rough, InelasticNormalRestitutionLosesTheExpectedEnergy) {
   // Equal masses, e_n = 1/2, head-on at +2 against rest: v1 = (1 - e)/2 * 2 = 0.5,
   // v2 = (1 + e)/2 * 2 = 1.5; kinetic energy 2 -> (0.25 + 2.25) / 2 = 1.25.
-  billiard::Simulation sim;
-  sim.add_box(Vec2(-20, -20), Vec2(20, 20));
+  billiard::Simulation sim(billiard::box(Vec2(-20, -20), Vec2(20, 20)), with_restitution(0.5));
   sim.add_disc(make_disc(Vec2(-5, 0), Vec2(2, 0)));
   sim.add_disc(make_disc(Vec2(5, 0), Vec2(0, 0)));
-  sim.set_restitution(0.5);
   sim.advance(1);
   EXPECT_DOUBLE_EQ(sim.kinetic_energy(), 1.25);
 }
@@ -57,12 +67,10 @@ TEST(Rough, SpinningDiscKicksItselfSidewaysOffAWall) {
   // with sigma = (0, -1): tangential 2 along +x... so g_t = (2, 0); the impulse
   // -(1 + 1) [1 + 2]^-1 g_t = (-4/3, 0) gives vx = -4/3 and spin 2 + 2 (sigma x Q) = 2 - 8/3 = -2/3.
   // The contact point's tangential velocity -4/3 + (-2/3) = -2 is reversed; energy is kept.
-  billiard::Simulation sim;
-  sim.add_box(Vec2(0, 0), Vec2(20, 20));
+  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), with_restitution(1.0, 1.0));
   billiard::Disc d = make_disc(Vec2(10, 5), Vec2(0, -1));
   d.spin = 2;
   sim.add_disc(d);
-  sim.set_restitution(1.0, 1.0);
   const double e0 = sim.kinetic_energy();
   sim.advance(1);
   const billiard::State s = sim.current_state();
@@ -77,9 +85,7 @@ TEST(Rough, PerfectlyRoughMixedDiscsConserveEnergy) {
   // table wall rough too): translational + rotational energy is conserved (1e-12 relative over
   // 50 000 collisions), validate() after every event.
   std::mt19937_64 rng(31);
-  billiard::Simulation sim;
-  sim.set_circular_table(15);
-  sim.set_restitution(1.0, 1.0);
+  billiard::Simulation sim(billiard::circular_table(15), with_restitution(1.0, 1.0));
   const auto discs = engine_test::random_discs(rng, 40, 0.5, 1.5, Vec2(-15, -15), Vec2(15, 15),
                                                [](const Vec2& p, double a) { return p.norm() <= 15 - a; });
   std::normal_distribution<double> normal;
@@ -99,29 +105,25 @@ TEST(Rough, PerfectlyRoughMixedDiscsConserveEnergy) {
 TEST(Rough, CustomInertia) {
   // A ring (I = m a^2) instead of a uniform disc: effective tangential mass [1 + 1]^-1 = 1/2,
   // impulse -(2)(1/2)(2, 0) = (-2, 0): vx = -2, spin 2 + (1)(1)(-2) = 0.
-  billiard::Simulation sim;
-  sim.add_box(Vec2(0, 0), Vec2(20, 20));
+  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), with_restitution(1.0, 1.0));
   billiard::Disc d = make_disc(Vec2(10, 5), Vec2(0, -1));
   d.spin = 2;
   d.inertia = 1.0;
   sim.add_disc(d);
-  sim.set_restitution(1.0, 1.0);
   sim.advance(1);
   EXPECT_NEAR(sim.current_state().velocities(0, 0), -2.0, 1e-15);
   EXPECT_NEAR(sim.current_state().spins[0], 0.0, 1e-15);
 }
 
-// The exchange rule (Simulation::set_exchange_velocities): discs swap whole velocities, walls
+// The exchange rule (Settings::exchange_velocities): discs swap whole velocities, walls
 // still reflect only the normal component.
 TEST(Exchange, ObliqueEqualDiscsSwapWholeVelocitiesExactly) {
   // Disc 0 at the origin moving (1, 0.5), disc 1 at (3, 0) moving (-1, 0.25): the gap of 1 along
   // x closes at relative speed 2 while y drifts apart by 0.25 t, so they touch before t = 0.5 at
   // an angle; smooth discs would exchange only the normal components.
-  billiard::Simulation sim;
-  sim.add_box(Vec2(-20, -20), Vec2(20, 20));
+  billiard::Simulation sim(billiard::box(Vec2(-20, -20), Vec2(20, 20)), exchanging());
   sim.add_disc(make_disc(Vec2(0, 0), Vec2(1, 0.5), 1.0));
   sim.add_disc(make_disc(Vec2(3, 0), Vec2(-1, 0.25), 1.0));
-  sim.set_exchange_velocities(true);
   sim.enable_event_log(true);
   sim.advance(1);
   ASSERT_EQ(sim.event_log().size(), 1u);
@@ -131,10 +133,8 @@ TEST(Exchange, ObliqueEqualDiscsSwapWholeVelocitiesExactly) {
 }
 
 TEST(Exchange, WallsStillReflectOnlyTheNormalComponent) {
-  billiard::Simulation sim;
-  sim.add_box(Vec2(0, 0), Vec2(10, 10));
+  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(10, 10)), exchanging());
   sim.add_disc(make_disc(Vec2(5, 5), Vec2(2, 1), 1.0));
-  sim.set_exchange_velocities(true);
   sim.enable_event_log(true);
   sim.advance(1);  // the wall x = 10 at t = 2
   ASSERT_EQ(sim.event_log().size(), 1u);
@@ -145,10 +145,8 @@ TEST(Exchange, WallsStillReflectOnlyTheNormalComponent) {
 TEST(Exchange, LongRunConservesEnergyAndMomentumInAPeriodicBox) {
   // Swapping velocities conserves both exactly (a permutation), so the sums stay equal to
   // rounding of the sums themselves.
-  billiard::Simulation sim;
-  sim.set_periodic_box(40, 40);
+  billiard::Simulation sim(billiard::periodic_box(40, 40), exchanging());
   sim.add_random_discs(200, 1.0, 1.0, 1.0, 7);
-  sim.set_exchange_velocities(true);
   const double energy = sim.kinetic_energy();
   const auto momentum = [&] {
     const auto state = sim.current_state();

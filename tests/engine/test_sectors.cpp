@@ -21,16 +21,15 @@ namespace {
 struct Setup {
   bool periodic;
   double cell;  // 0: automatic
+  billiard::Prefetch prefetch = billiard::Prefetch::Automatic;
 };
 
 billiard::Simulation make(const Setup& setup, std::uint64_t seed, int n, double side) {
-  billiard::Simulation sim;
-  if (setup.periodic) {
-    sim.set_periodic_box(side, side);
-  } else {
-    sim.add_box(Vec2(0, 0), Vec2(side, side));
-  }
-  sim.set_cell_size(setup.cell);
+  billiard::Settings settings;
+  settings.cell_size = setup.cell;
+  settings.prefetch = setup.prefetch;
+  billiard::Simulation sim(setup.periodic ? billiard::periodic_box(side, side) : billiard::box(Vec2(0, 0), Vec2(side, side)),
+                           settings);
   std::mt19937_64 rng(seed);
   const auto discs = engine_test::random_discs(rng, n, 0.6, 1.0, Vec2(0, 0), Vec2(side, side), [&](const Vec2& p, double a) {
     // Away from the edges in both cases (in the periodic box, so that no disc overlaps an
@@ -103,8 +102,7 @@ TEST(Sectors, ThreeDiscsTouchingAtOnce) {
   // A at x = -3 moving +1, B at rest at 0, C at x = 3 moving -1 (radius 1): A and C touch B at
   // t = 1 together. Processed one after another at the same instant (A-B, B-C, then A-B again,
   // or the mirror order), equal smooth discs end with A -1, B 0, C +1: three events at t = 1.
-  billiard::Simulation sim;
-  sim.add_box(Vec2(-20, -20), Vec2(20, 20));
+  billiard::Simulation sim(billiard::box(Vec2(-20, -20), Vec2(20, 20)));
   sim.add_disc(make_disc(Vec2(-3, 0), Vec2(1, 0)));
   sim.add_disc(make_disc(Vec2(0, 0), Vec2(0, 0)));
   sim.add_disc(make_disc(Vec2(3, 0), Vec2(-1, 0)));
@@ -126,8 +124,7 @@ TEST(Sectors, LowAndHighDensityRunsStayValid) {
   // checked against their neighbours, the whole system every 10 000.
   for (double fraction : {0.05, 0.6}) {
     const double side = std::sqrt(1000 * M_PI / fraction);
-    billiard::Simulation sim;
-    sim.set_periodic_box(side, side);
+    billiard::Simulation sim(billiard::periodic_box(side, side));
     billiard::Points positions(1000, 2), velocities(1000, 2);
     std::mt19937_64 rng(5);
     std::normal_distribution<double> normal;
@@ -153,10 +150,9 @@ TEST(Sectors, LowAndHighDensityRunsStayValid) {
 TEST(Sectors, PrefetchingAheadChangesNoEvent) {
   for (double side : {40.0, 120.0}) {
     std::vector<std::vector<billiard::EventRecord>> logs;
-    for (auto mode : {billiard::Simulation::Prefetch::On, billiard::Simulation::Prefetch::Off}) {
-      billiard::Simulation sim = make(::Setup{false, 0.0}, 21, 300, side);
-      sim.set_prefetch_ahead(mode);
-      sim.set_validate_every_event(mode == billiard::Simulation::Prefetch::On);
+    for (auto mode : {billiard::Prefetch::On, billiard::Prefetch::Off}) {
+      billiard::Simulation sim = make(::Setup{false, 0.0, mode}, 21, 300, side);
+      sim.set_validate_every_event(mode == billiard::Prefetch::On);
       ASSERT_EQ(sim.advance(20000).collisions, 20000) << sim.last_problem().value_or("");
       logs.push_back(sim.event_log());
     }

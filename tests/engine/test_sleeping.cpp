@@ -21,13 +21,18 @@ namespace {
 
 double total_energy(const billiard::Simulation& sim) { return sim.kinetic_energy() + sim.potential_energy(); }
 
-// One disc of radius 1 in the box (0,0)-(40,40) under gravity (0, -1), restitution e.
+// The box (0,0)-(40,40) under gravity (0, -1), restitution e.
+billiard::Simulation falling(double restitution) {
+  billiard::Settings settings;
+  settings.gravity = Vec2(0, -1);
+  settings.restitution.normal = restitution;
+  return billiard::Simulation(billiard::box(Vec2(0, 0), Vec2(40, 40)), settings);
+}
+
+// One disc of radius 1 in that box.
 billiard::Simulation one_disc(const Vec2& position, const Vec2& velocity, double restitution) {
-  billiard::Simulation sim;
-  sim.add_box(Vec2(0, 0), Vec2(40, 40));
-  sim.set_gravity(Vec2(0, -1));
+  billiard::Simulation sim = falling(restitution);
   sim.add_disc(make_disc(position, velocity));
-  sim.set_restitution(restitution);
   return sim;
 }
 
@@ -99,12 +104,9 @@ namespace {
 // it, is thrown straight up at speed 2 and comes down on top of A at t = 2 + sqrt(5) (where
 // 3.5 + 2 t - t^2 / 2 = 3) at speed sqrt(5). Runs to just before that and returns the simulation.
 billiard::Simulation disc_thrown_onto_a_sleeper() {
-  billiard::Simulation sim;
-  sim.add_box(Vec2(0, 0), Vec2(40, 40));
-  sim.set_gravity(Vec2(0, -1));
+  billiard::Simulation sim = falling(0.5);
   sim.add_disc(make_disc(Vec2(10, 1), Vec2(0, 0)));
   sim.add_disc(make_disc(Vec2(10, 3.5), Vec2(0, 2)));
-  sim.set_restitution(0.5);
   sim.enable_event_log(true);
   sim.advance(kAllEvents, 4.0);
   return sim;
@@ -174,11 +176,11 @@ TEST(Sleeping, SleepSpeedZeroWakesEveryDiscAndRefusesBadValues) {
   billiard::Simulation elastic = one_disc(Vec2(20, 1), Vec2(0, 0), 1.0);
   elastic.advance(10);
   EXPECT_EQ(elastic.sleep_speed(), 0.0);
-  billiard::Simulation weightless;
-  weightless.set_periodic_box(20, 20);
+  billiard::Settings inelastic;
+  inelastic.restitution.normal = 0.5;
+  inelastic.sleep_speed = 1.0;
+  billiard::Simulation weightless(billiard::periodic_box(20, 20), inelastic);
   weightless.add_random_discs(10, 1.0, 1.0, 1.0, 1);
-  weightless.set_restitution(0.5);
-  weightless.set_sleep_speed(1.0);
   weightless.advance(10);
   EXPECT_EQ(weightless.sleep_speed(), 0.0);
 }
@@ -191,11 +193,8 @@ namespace {
 // quarters of t = 0..200). Now: to t = 200 with every collision's discs checked, the energy never
 // rising, and no collision at all in the last quarter.
 void exactly_filled_box_falls_asleep(double restitution) {
-  billiard::Simulation sim;
-  sim.add_box(Vec2(0, 0), Vec2(40, 40));
-  sim.set_gravity(Vec2(0, -1));
+  billiard::Simulation sim = falling(restitution);
   sim.add_random_discs(200, 1.0, 1.0, 1.0, 7);
-  sim.set_restitution(restitution);
   sim.set_check_event_discs(true);
   double energy = total_energy(sim);
   const double tolerance = 1e-12 * std::abs(energy);

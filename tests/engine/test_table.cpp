@@ -17,8 +17,7 @@ using engine_test::make_disc;
 
 namespace {
 billiard::Simulation random_table(std::mt19937_64& rng, int n, double table, double radius_lo, double radius_hi) {
-  billiard::Simulation sim;
-  sim.set_circular_table(table);
+  billiard::Simulation sim(billiard::circular_table(table));
   const auto discs = engine_test::random_discs(rng, n, radius_lo, radius_hi, Vec2(-table, -table), Vec2(table, table),
                                                [&](const Vec2& p, double a) { return p.norm() <= table - a; });
   engine_test::add_all(sim, discs);
@@ -29,8 +28,7 @@ billiard::Simulation random_table(std::mt19937_64& rng, int n, double table, dou
 TEST(Table, OneDiscBouncesAcrossTheCentre) {
   // R = 10, a = 1, from the centre at speed 2: the rim (reach 9) at t = 4.5, then a diameter
   // (18) every 9 time units: 4.5, 13.5, 22.5. Exact in binary: compared with EXPECT_DOUBLE_EQ.
-  billiard::Simulation sim;
-  sim.set_circular_table(10);
+  billiard::Simulation sim(billiard::circular_table(10));
   sim.add_disc(make_disc(Vec2(0, 0), Vec2(2, 0)));
   sim.enable_event_log(true);
   const auto result = sim.advance(3);
@@ -46,8 +44,7 @@ TEST(Table, OneDiscBouncesAcrossTheCentre) {
 TEST(Table, TwoDiscsHeadOn) {
   // Radius 1 at x = -5 and 5, speeds +1 and -1: touch at t = 4 (gap 8 at relative speed 2)
   // and exchange velocities; then each reaches the rim (reach 9) from |x| = 1 at t = 4 + 8 = 12.
-  billiard::Simulation sim;
-  sim.set_circular_table(10);
+  billiard::Simulation sim(billiard::circular_table(10));
   sim.add_disc(make_disc(Vec2(-5, 0), Vec2(1, 0)));
   sim.add_disc(make_disc(Vec2(5, 0), Vec2(-1, 0)));
   sim.enable_event_log(true);
@@ -62,8 +59,7 @@ TEST(Table, TwoDiscsHeadOn) {
 }
 
 TEST(Table, DiscAtRestNeverCollides) {
-  billiard::Simulation sim;
-  sim.set_circular_table(5);
+  billiard::Simulation sim(billiard::circular_table(5));
   sim.add_disc(make_disc(Vec2(1, 2), Vec2(0, 0)));
   const auto result = sim.advance(10, 7.5);
   EXPECT_EQ(result.collisions, 0);
@@ -119,8 +115,7 @@ TEST(Table, SameFirstTwentyEventsAsTheCoursePropagate) {
                                                  [&](const Vec2& p, double r) { return p.norm() <= table - r; });
     billiard::Coordinates coordinates(n, 2);
     billiard::Velocities velocities(n, 2);
-    billiard::Simulation sim;
-    sim.set_circular_table(table);
+    billiard::Simulation sim(billiard::circular_table(table));
     for (int i = 0; i < n; ++i) {
       coordinates.row(i) = discs.positions[i].transpose();
       velocities.row(i) = discs.velocities[i].transpose();

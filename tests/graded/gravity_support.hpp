@@ -116,9 +116,9 @@ struct LibraryStep {
 inline LibraryStep library_step(const GravityTable& t) {
   LibraryStep s;
   try {
-    Simulation sim;
-    sim.set_circular_table(t.R);
-    sim.set_gravity(Vec2(t.g(0), t.g(1)));
+    Settings settings;
+    settings.gravity = Vec2(t.g(0), t.g(1));
+    Simulation sim(circular_table(t.R), settings);
     const Points positions = t.c;
     const Points velocities = t.v;
     sim.add_discs(positions, velocities, t.a);

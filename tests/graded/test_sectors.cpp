@@ -379,8 +379,7 @@ GRADED_TEST(Sectors, AgreesWithTheLibraryOnLargeTables, 2, after_due_date) {
     const double R = 60, a = 0.5;
     const Coordinates c = billiard::testing::scattered_circles(R, a, n, 5000 + static_cast<std::uint64_t>(k));
     const Velocities v = billiard::testing::gaussian_velocities(n, 5100 + static_cast<std::uint64_t>(k));
-    billiard::Simulation sim;
-    sim.set_circular_table(R);
+    billiard::Simulation sim(billiard::circular_table(R));
     sim.add_discs(c, v, a);
     sim.enable_event_log(true);
     sim.advance(1);

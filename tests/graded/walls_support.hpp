@@ -161,9 +161,9 @@ inline WallTable random_wall_table(int k, std::uint64_t salt) {
 // The finished library on the same table: circular table, one segment per wall (the library adds
 // the end points itself, once per point), the circles as discs of radius a, event log on.
 inline Simulation library_simulation(const WallTable& t) {
-  Simulation sim;
-  sim.set_circular_table(t.R);
-  for (const Wall& w : t.walls) sim.add_segment(w.a.transpose(), w.b.transpose());
+  Container table = circular_table(t.R);
+  for (const Wall& w : t.walls) table.add_segment(w.a.transpose(), w.b.transpose());
+  Simulation sim(table);
   const Points positions = t.c;
   const Points velocities = t.v;
   sim.add_discs(positions, velocities, t.a);
@@ -179,7 +179,7 @@ inline bool library_event_is(const Simulation& sim, const EventRecord& e, const 
     return (got.circle == e.disc && got.other == e.other) || (got.circle == e.other && got.other == e.disc);
   }
   if (got.circle != e.disc) return false;
-  const WallShape& shape = sim.walls()[static_cast<std::size_t>(e.wall)];
+  const WallShape& shape = sim.container().walls()[static_cast<std::size_t>(e.wall)];
   if (shape.kind == WallKind::Circle) return got.other == kWall;
   const int k = -2 - got.other;
   if (got.other > -2 || k >= static_cast<int>(walls.size())) return false;
@@ -192,7 +192,7 @@ inline bool library_event_is(const Simulation& sim, const EventRecord& e, const 
 // "circle 3 with walls[1]" for a logged library event (a point names the first wall owning it).
 inline std::string describe_library_event(const Simulation& sim, const EventRecord& e, const std::vector<Wall>& walls) {
   if (e.kind == EventKind::DiscDisc) return text("circles ", e.disc, " and ", e.other);
-  const WallShape& shape = sim.walls()[static_cast<std::size_t>(e.wall)];
+  const WallShape& shape = sim.container().walls()[static_cast<std::size_t>(e.wall)];
   if (shape.kind == WallKind::Circle) return text("circle ", e.disc, " with the table's rim (other = kWall)");
   for (std::size_t k = 0; k < walls.size(); ++k) {
     const Vec2 a = walls[k].a.transpose();

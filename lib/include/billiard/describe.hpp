@@ -6,6 +6,8 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <ostream>
@@ -17,11 +19,16 @@ namespace billiard {
 inline std::string number_text(double x) {
   char digits[32];
   // (printf and strtod, not to_chars: the course builds on students' older compilers too.)
-  for (int precision = 1; precision < 17; ++precision) {
+  int precision = 1;
+  while (precision < 17) {
     std::snprintf(digits, sizeof digits, "%.*g", precision, x);
-    if (std::strtod(digits, nullptr) == x) return digits;
+    if (std::strtod(digits, nullptr) == x) break;
+    ++precision;
   }
-  std::snprintf(digits, sizeof digits, "%.17g", x);
+  // Whole numbers below a million in full, as people write them: 1000, not 1e+03.
+  const double magnitude = std::abs(x);
+  if (magnitude >= 1 && magnitude < 1e6) precision = std::max(precision, 1 + static_cast<int>(std::floor(std::log10(magnitude))));
+  std::snprintf(digits, sizeof digits, "%.*g", precision, x);
   return digits;
 }
 
