@@ -32,8 +32,7 @@ def measure_periodic(eta, seed):
     import billiard
 
     side = np.sqrt(N * np.pi * RADIUS**2 / eta)
-    sim = billiard.Simulation()
-    sim.set_periodic_box(side, side)
+    sim = billiard.Simulation(billiard.periodic_box(side, side))
     sim.add_random_discs(N, RADIUS, seed=seed)
     sim.advance(events=EQUILIBRATION)
     virial, start = sim.totals["virial"], sim.time

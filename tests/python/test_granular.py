@@ -15,12 +15,8 @@ pytestmark = pytest.mark.skipif(not hasattr(billiard, "Simulation"),
 
 def falling_bed(restitution, table=False):
     """200 discs of radius 1 under gravity (0, -1), in the box (0,0)-(40,40) or a table of radius 22."""
-    sim = billiard.Simulation()
-    if table:
-        sim.set_circular_table(22)
-    else:
-        sim.add_box((0, 0), (40, 40))
-    sim.set_gravity((0, -1))
+    container = billiard.circular_table(22) if table else billiard.box((0, 0), (40, 40))
+    sim = billiard.Simulation(container, billiard.Settings(gravity=(0, -1)))
     sim.add_random_discs(200, 1.0, seed=7)
     sim.set_restitution(restitution)
     return sim

@@ -1,7 +1,8 @@
 """The event-driven engine through the Python module: billiard.Simulation (lib/python/
 simulation_bindings.cpp). The physics is tested by the C++ engine suites; here what the binding
 adds or could break: arguments in, dicts of numpy arrays out, counts, errors as ValueError,
-the replays as generators, and a few physical facts seen from Python (times, conservation)."""
+the replays as generators, and a few physical facts seen from Python (times, conservation).
+The container and settings values that make a simulation: test_describe.py."""
 
 import math
 
@@ -20,8 +21,7 @@ COUNT_KEYS = ("disc_collisions", "wall_collisions", "cell_crossings")
 
 
 def table_with_discs(n=30, radius=0.5, table=10.0, seed=1, log=False):
-    sim = billiard.Simulation()
-    sim.set_circular_table(table)
+    sim = billiard.Simulation(billiard.circular_table(table))
     sim.add_random_discs(n, radius, kT=1.0, seed=seed)
     if log:
         sim.enable_event_log(True)
@@ -37,10 +37,9 @@ def assert_same_state(a, b, tolerance=1e-9):
 # ---- a case with a known answer ------------------------------------------------------------
 
 def test_disc_from_the_centre_hits_the_wall_of_radius_10_at_time_9():
-    sim = billiard.Simulation()
-    sim.set_circular_table(10.0)
+    sim = billiard.Simulation(billiard.circular_table(10.0))
     index = sim.add_disc((0.0, 0.0), (1.0, 0.0), radius=1.0)
-    assert index == 0 and len(sim) == 1 and sim.table_radius == 10.0
+    assert index == 0 and len(sim) == 1 and sim.container.table_radius == 10.0
     result = sim.advance(events=1)
     assert sim.time == pytest.approx(9.0, abs=1e-12)
     assert result["collisions"] == 1 and result["wall_collisions"] == 1 and result["disc_collisions"] == 0
@@ -54,8 +53,7 @@ def test_disc_from_the_centre_hits_the_wall_of_radius_10_at_time_9():
 
 
 def test_advance_by_time_stops_exactly_at_the_duration():
-    sim = billiard.Simulation()
-    sim.set_circular_table(10.0)
+    sim = billiard.Simulation(billiard.circular_table(10.0))
     sim.add_disc((0.0, 0.0), (1.0, 0.0), radius=1.0)
     result = sim.advance(time=5.0)
     assert sim.time == 5.0 and result["collisions"] == 0 and result["elapsed"] == 5.0
@@ -69,8 +67,7 @@ def test_advance_by_time_stops_exactly_at_the_duration():
 @pytest.mark.parametrize("which", ["initial_state", "current_state"])
 def test_state_dicts_have_the_documented_keys_shapes_and_dtypes(which):
     n = 25
-    sim = billiard.Simulation()
-    sim.set_circular_table(10.0)
+    sim = billiard.Simulation(billiard.circular_table(10.0))
     sim.add_disc((0.0, 0.0), (0.5, -0.25), radius=0.75, mass=2.0, spin=0.5)
     sim.add_random_discs(n - 1, 0.5, kT=1.0, seed=3)
     sim.advance(events=100)
@@ -117,26 +114,25 @@ def test_event_log_is_a_dict_of_arrays_one_row_per_collision():
 
 
 def test_walls_list_a_box_as_segments_and_corner_points():
-    sim = billiard.Simulation()
-    sim.add_box((0.0, 0.0), (4.0, 3.0))
-    index = sim.add_segment((2.0, 0.0), (2.0, 1.0))
-    walls = sim.walls
+    container = billiard.box((0.0, 0.0), (4.0, 3.0))
+    index = container.add_segment((2.0, 0.0), (2.0, 1.0))
+    sim = billiard.Simulation(container)
+    walls = sim.container.walls
+    assert walls == container.walls
     assert all(set(w) == {"kind", "a", "b", "radius", "start_angle", "sweep"} for w in walls)
     segments = [w for w in walls if w["kind"] == "segment"]
     assert len(segments) == 5
     assert walls[index]["kind"] == "segment"
     assert walls[index]["a"] == (2.0, 0.0) and walls[index]["b"] == (2.0, 1.0)
-    assert sim.gravity == (0.0, 0.0) and sim.period == (0.0, 0.0) and sim.table_radius == 0.0
-    periodic = billiard.Simulation()
-    periodic.set_periodic_box(5.0, 7.0)
-    assert periodic.period == (5.0, 7.0) and periodic.walls == []
+    assert sim.gravity == (0.0, 0.0) and sim.container.period == (0.0, 0.0) and sim.container.table_radius == 0.0
+    periodic = billiard.Simulation(billiard.periodic_box(5.0, 7.0))
+    assert periodic.container.period == (5.0, 7.0) and periodic.container.walls == []
 
 
 # ---- errors ---------------------------------------------------------------------------------
 
 def test_a_negative_radius_is_a_value_error_naming_it():
-    sim = billiard.Simulation()
-    sim.set_circular_table(10.0)
+    sim = billiard.Simulation(billiard.circular_table(10.0))
     with pytest.raises(ValueError, match="radius") as error:
         sim.add_disc((0.0, 0.0), radius=-1.0)
     assert "-1" in str(error.value)
@@ -146,8 +142,7 @@ def test_a_negative_radius_is_a_value_error_naming_it():
 
 
 def test_overlapping_discs_are_a_value_error_and_add_discs_is_all_or_nothing():
-    sim = billiard.Simulation()
-    sim.set_circular_table(10.0)
+    sim = billiard.Simulation(billiard.circular_table(10.0))
     sim.add_disc((0.0, 0.0), radius=1.0)
     with pytest.raises(ValueError, match="overlap"):
         sim.add_disc((1.5, 0.0), radius=1.0)
@@ -161,8 +156,7 @@ def test_overlapping_discs_are_a_value_error_and_add_discs_is_all_or_nothing():
 
 
 def test_other_bad_calls_raise():
-    sim = billiard.Simulation()
-    sim.set_circular_table(5.0)
+    sim = billiard.Simulation(billiard.circular_table(5.0))
     with pytest.raises(ValueError):
         sim.add_disc((10.0, 0.0))  # outside the table
     with pytest.raises(ValueError, match="positions|velocities"):
@@ -181,10 +175,8 @@ def test_other_bad_calls_raise():
 def test_prefetch_ahead_changes_no_event_and_refuses_an_unknown_mode():
     runs = {}
     for mode in ("on", "off"):
-        sim = billiard.Simulation()
-        sim.set_periodic_box(60.0, 60.0)
+        sim = billiard.Simulation(billiard.periodic_box(60.0, 60.0), billiard.Settings(prefetch=mode))
         sim.add_random_discs(400, 1.0, seed=3)
-        sim.set_prefetch_ahead(mode)
         sim.enable_event_log(True)
         sim.advance(events=500)
         runs[mode] = sim.event_log
@@ -195,14 +187,12 @@ def test_prefetch_ahead_changes_no_event_and_refuses_an_unknown_mode():
     np.testing.assert_array_equal(np.sort(np.stack([on["disc"], on["other"]]), axis=0),
                                   np.sort(np.stack([off["disc"], off["other"]]), axis=0))
     np.testing.assert_array_equal(on["wall"], off["wall"])
-    sim = billiard.Simulation()
-    with pytest.raises(ValueError, match="set_prefetch_ahead.*'sometimes'"):
-        sim.set_prefetch_ahead("sometimes")
-    sim.set_circular_table(5.0)
-    sim.add_disc((0.0, 0.0), (1.0, 0.0))
-    sim.advance(events=1)
-    with pytest.raises((RuntimeError, ValueError), match="started"):
-        sim.set_prefetch_ahead("on")
+    with pytest.raises(ValueError, match="settings.prefetch.*'sometimes'"):
+        billiard.Settings(prefetch="sometimes")
+    settings = billiard.Settings()
+    with pytest.raises(ValueError, match="settings.prefetch.*'sometimes'"):
+        settings.prefetch = "sometimes"
+    assert settings.prefetch == "auto"
 
 
 # ---- replays ----------------------------------------------------------------------------------
@@ -260,8 +250,7 @@ def test_totals_count_what_advance_reported():
 
 
 def test_kinetic_energy_is_conserved_to_1e_12_over_1e5_collisions():
-    sim = billiard.Simulation()
-    sim.set_periodic_box(40.0, 40.0)
+    sim = billiard.Simulation(billiard.periodic_box(40.0, 40.0))
     sim.add_random_discs(200, 1.0, kT=1.0, seed=4)
     before = sim.kinetic_energy()
     result = sim.advance(events=100_000)
@@ -274,9 +263,7 @@ def test_kinetic_energy_is_conserved_to_1e_12_over_1e5_collisions():
 
 
 def test_energy_with_gravity_is_kinetic_plus_potential():
-    sim = billiard.Simulation()
-    sim.add_box((0.0, 0.0), (20.0, 20.0))
-    sim.set_gravity((0.0, -1.0))
+    sim = billiard.Simulation(billiard.box((0.0, 0.0), (20.0, 20.0)), billiard.Settings(gravity=(0.0, -1.0)))
     sim.add_random_discs(30, 0.5, kT=1.0, seed=5)
     before = sim.kinetic_energy() + sim.potential_energy()
     state = sim.initial_state
@@ -291,13 +278,12 @@ def test_energy_with_gravity_is_kinetic_plus_potential():
 
 @pytest.mark.parametrize("container", ["periodic", "table", "box"])
 def test_add_random_discs_places_the_requested_number_without_overlap(container):
-    sim = billiard.Simulation()
     if container == "periodic":
-        sim.set_periodic_box(60.0, 40.0)
+        sim = billiard.Simulation(billiard.periodic_box(60.0, 40.0))
     elif container == "table":
-        sim.set_circular_table(25.0)
+        sim = billiard.Simulation(billiard.circular_table(25.0))
     else:
-        sim.add_box((-10.0, -10.0), (40.0, 30.0))
+        sim = billiard.Simulation(billiard.box((-10.0, -10.0), (40.0, 30.0)))
     sim.add_disc((5.0, 5.0), radius=2.0)  # something there already
     first = sim.add_random_discs(500, 0.8, mass=2.0, kT=1.5, seed=9)
     assert first == 1 and len(sim) == 501
@@ -322,8 +308,7 @@ def test_add_random_discs_places_the_requested_number_without_overlap(container)
 
 def test_add_random_discs_depends_only_on_the_seed():
     def positions(seed):
-        sim = billiard.Simulation()
-        sim.set_periodic_box(30.0, 30.0)
+        sim = billiard.Simulation(billiard.periodic_box(30.0, 30.0))
         sim.add_random_discs(100, 1.0, seed=seed)
         return sim.current_state["position"]
 
@@ -335,8 +320,7 @@ def test_dense_random_discs_in_a_periodic_box():
     # area fraction 0.6: beyond random sequential placement, still placed (documented: from lattice sites)
     n, radius = 400, 1.0
     side = math.sqrt(n * math.pi * radius**2 / 0.6)
-    sim = billiard.Simulation()
-    sim.set_periodic_box(side, side)
+    sim = billiard.Simulation(billiard.periodic_box(side, side))
     sim.add_random_discs(n, radius, seed=2)
     assert len(sim) == n and sim.validate() is None
     assert np.abs(sim.current_state["velocity"].sum(axis=0)).max() < 1e-12

@@ -26,8 +26,7 @@ def gas_run(eta, n, seed):
     """A small periodic gas: its virial sum, time and final positions depend on every collision,
     so any difference between two runs of the same (eta, n, seed) shows."""
     side = np.sqrt(n * np.pi / eta)
-    sim = billiard.Simulation()
-    sim.set_periodic_box(side, side)
+    sim = billiard.Simulation(billiard.periodic_box(side, side))
     sim.add_random_discs(n, 1.0, kT=1.0, seed=seed)
     sim.advance(events=50 * n)
     return {"virial": sim.totals["virial"], "time": sim.time, "positions": sim.current_state["position"]}

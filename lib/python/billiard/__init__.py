@@ -13,6 +13,17 @@ chose; see ``billiard.course_implementation``) work on numpy arrays of shape (n,
 The extension stages (tasks 7-9) this build has are in ``billiard.stages`` (its ``available``
 lists them): ``propagate_gravity``, ``mean_energy``, ``propagate_walls``, ``propagate_sectors``.
 
+The event-driven engine: describe a system, then run it. A container (made by
+``billiard.circular_table``, ``periodic_box``, ``box``, ``polygon``, ``stadium``,
+``sinai_billiard``, ``mushroom`` or ``union_of_circles``, then given walls and obstacles) and
+optional ``billiard.Settings`` make a ``billiard.Simulation``:
+
+    >>> sim = billiard.Simulation(billiard.box((0, 0), (10, 10)), billiard.Settings(gravity=(0, -1)))
+    >>> sim.add_random_discs(20, 0.3, seed=1)
+    0
+    >>> sim.advance(events=1000)["collisions"]
+    1000
+
 Time stepping of point particles in level-set domains, for comparison with the exact engine:
 ``billiard.stepping`` (``billiard.Stepper`` is its integrator).
 
@@ -23,7 +34,7 @@ or a Dask cluster's address) and returns one record per run.
 Drawing and animation: ``billiard.plotting`` (matplotlib). Errors in arguments arrive as
 ValueError with the library's message, naming the argument; an argument of the wrong Python type
 (a string for a number, a list where a numpy array is required, an int beyond the C++ parameter's
-range such as n >= 2**31) is a TypeError from pybind11 listing the signature. A setup call after
+range such as n >= 2**31) is a TypeError from pybind11 listing the signature. Adding discs after
 the first advance() is a RuntimeError. A task not written yet raises NotImplementedError.
 """
 
@@ -48,7 +59,23 @@ from ._billiard import stages  # noqa: F401  (the extension stages this build ha
 from ._sweep import local_client, sweep  # noqa: F401  (re-exported; import Dask only when called)
 
 if hasattr(_billiard, "Simulation"):
-    from ._billiard import DISC_DISC, DISC_WALL, SLEEP, WAKE, Simulation  # noqa: F401
+    from ._billiard import (  # noqa: F401  (re-exported)
+        DISC_DISC,
+        DISC_WALL,
+        SLEEP,
+        WAKE,
+        Container,
+        Settings,
+        Simulation,
+        box,
+        circular_table,
+        mushroom,
+        periodic_box,
+        polygon,
+        sinai_billiard,
+        stadium,
+        union_of_circles,
+    )
 
     def _replay_by_event(self):
         """Yields the state (a dict like current_state) just after each logged event, in order.
@@ -84,7 +111,9 @@ if hasattr(_billiard, "stepping"):
     from .stepping import Stepper  # noqa: F401
 
 __all__ = [
-    "DISC_DISC", "DISC_WALL", "SLEEP", "WAKE", "Simulation", "WALL", "Collision", "Rng", "correct_energy_drift", "course_implementation", "init_billiard",
-    "init_velocities", "kinetic_energy", "local_client", "movie", "propagate", "stages", "stepping", "Stepper", "sweep",
+    "DISC_DISC", "DISC_WALL", "SLEEP", "WAKE", "Simulation", "Container", "Settings", "box", "circular_table",
+    "mushroom", "periodic_box", "polygon", "sinai_billiard", "stadium", "union_of_circles", "WALL",
+    "Collision", "Rng", "correct_energy_drift", "course_implementation", "init_billiard", "init_velocities",
+    "kinetic_energy", "local_client", "movie", "propagate", "stages", "stepping", "Stepper", "sweep",
     "visualize_table",
 ]

@@ -5,7 +5,8 @@ writes a file):
 
 - ``draw_table(ax, positions, radii, ...)``: the discs as circles, the circular table, a
   rectangular box, straight walls or circular arcs, and optionally the velocities as arrows
-  (``simulation_walls(sim)`` gives the walls of a ``billiard.Simulation`` in that form).
+  (``simulation_walls(sim)`` gives the walls of a ``billiard.Simulation`` or a ``billiard.Container``
+  in that form).
 - ``animate(states, path, ...)``: a replay of many states as a GIF (Pillow) or an MP4 (ffmpeg).
 - ``plot_energy(ax, events, mean_square, ...)``: the mean squared velocity <v^2> over the
   events, or its relative drift |<v^2>/<v^2>_0 - 1| on a log scale.
@@ -129,20 +130,21 @@ def _arc_points(arcs):
 
 
 def simulation_walls(sim):
-    """The walls of a billiard.Simulation as keyword arguments of draw_table and animate:
-    ``walls`` (its segments), ``arcs`` (its arcs) and ``table_radius`` (when it has a table).
-    Point walls (end points, corners) are not drawn. Usage:
+    """The walls of a billiard.Simulation (or of a billiard.Container) as keyword arguments of
+    draw_table and animate: ``walls`` (its segments), ``arcs`` (its arcs) and ``table_radius``
+    (when it has a table). Point walls (end points, corners) are not drawn. Usage:
     ``draw_table(ax, sim.current_state, **simulation_walls(sim))``."""
+    container = getattr(sim, "container", sim)
     segments, arcs = [], []
-    for wall in sim.walls:
+    for wall in container.walls:
         if wall["kind"] == "segment":
             segments.append([wall["a"], wall["b"]])
         elif wall["kind"] == "arc":
             start = wall["start_angle"]
             arcs.append([wall["a"][0], wall["a"][1], wall["radius"], start, start + wall["sweep"]])
     out = {"walls": segments, "arcs": arcs}
-    if sim.table_radius > 0:
-        out["table_radius"] = sim.table_radius
+    if container.table_radius > 0:
+        out["table_radius"] = container.table_radius
     return out
 
 
