@@ -2,7 +2,9 @@
 // say what the caller passed and how to fix it (they arrive in Python as ValueError).
 #pragma once
 
-#include <Eigen/Core>
+#include "billiard/course.hpp"
+#include "billiard/engine/vec2.hpp"
+
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
@@ -10,26 +12,27 @@
 
 namespace billiard::python {
 
-using Rows2 = Eigen::Matrix<double, Eigen::Dynamic, 2>;
+// The course's n by 2 arrays (Coordinates, Velocities) and the engine's (Points) by their own
+// names (lib/DESIGN.md, "Names of the data").
 
 // An n by 2 float64 numpy array as an Eigen matrix (a copy). With `writable`, the array must
 // also be one we can write the result back into: float64, C-contiguous, writeable.
-Rows2 from_numpy(const pybind11::array& array, const char* name, bool writable = false);
+Coordinates from_numpy(const pybind11::array& array, const char* name, bool writable = false);
 
 // Copies the matrix back into the caller's array (same shape, checked by from_numpy).
-void write_back(const Rows2& matrix, pybind11::array& array);
+void write_back(const Coordinates& matrix, pybind11::array& array);
 
 // A point (x, y): two real numbers in any sequence or array; `name` is the argument's name.
-Eigen::Vector2d to_vec2(const pybind11::object& value, const char* name);
+Vec2 to_vec2(const pybind11::object& value, const char* name);
 
 // An n by 2 array of real numbers from any array-like value, as the engine's row-major points.
-Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> to_points(const pybind11::object& value, const char* name);
+Points to_points(const pybind11::object& value, const char* name);
 
 // A new n by 2 float64 numpy array.
-pybind11::array_t<double> to_numpy(const Rows2& matrix);
+pybind11::array_t<double> to_numpy(const Coordinates& matrix);
 
 // New numpy arrays: an n by 2 float64 array of the engine's row-major points, and a vector.
-pybind11::array_t<double> points(const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>& p);
+pybind11::array_t<double> points(const Points& p);
 pybind11::array_t<double> vector(const Eigen::VectorXd& v);
 
 // repr(value) for an error message, at most about 60 characters (and never an error itself).

@@ -11,7 +11,7 @@ namespace py = pybind11;
 
 namespace billiard::python {
 
-Rows2 from_numpy(const py::array& array, const char* name, bool writable) {
+Coordinates from_numpy(const py::array& array, const char* name, bool writable) {
   if (!array) throw std::invalid_argument(std::string(name) + " must be an array of numbers of shape (n, 2)");
   const auto shape = [&] {
     std::string s = "(";
@@ -38,7 +38,7 @@ Rows2 from_numpy(const py::array& array, const char* name, bool writable) {
   }
   const auto values = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(array);
   if (!values) throw std::invalid_argument(std::string(name) + " must hold numbers");
-  Rows2 m(values.shape(0), 2);
+  Coordinates m(values.shape(0), 2);
   const auto view = values.unchecked<2>();
   for (py::ssize_t i = 0; i < values.shape(0); ++i) {
     m(i, 0) = view(i, 0);
@@ -47,7 +47,7 @@ Rows2 from_numpy(const py::array& array, const char* name, bool writable) {
   return m;
 }
 
-void write_back(const Rows2& matrix, py::array& array) {
+void write_back(const Coordinates& matrix, py::array& array) {
   auto target = py::array_t<double, py::array::c_style>::ensure(array);
   auto view = target.mutable_unchecked<2>();
   for (Eigen::Index i = 0; i < matrix.rows(); ++i) {
@@ -57,17 +57,17 @@ void write_back(const Rows2& matrix, py::array& array) {
 }
 
 // (ensure() gives a null array when numpy cannot read the value at all.)
-Eigen::Vector2d to_vec2(const py::object& value, const char* name) {
+Vec2 to_vec2(const py::object& value, const char* name) {
   py::array array = py::array::ensure(value);
   if (!array || array.size() != 2) {
     throw std::invalid_argument(std::string(name) + " must be a point (x, y) of two numbers, got " + short_repr(value));
   }
-  const Rows2 m = from_numpy(array.reshape({1, 2}), name);
-  return Eigen::Vector2d(m(0, 0), m(0, 1));
+  const Coordinates m = from_numpy(array.reshape({1, 2}), name);
+  return Vec2(m(0, 0), m(0, 1));
 }
 
-Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> to_points(const py::object& value, const char* name) {
-  const Rows2 m = from_numpy(py::array::ensure(value), name);  // (from_numpy refuses a null array)
+Points to_points(const py::object& value, const char* name) {
+  const Coordinates m = from_numpy(py::array::ensure(value), name);  // (from_numpy refuses a null array)
   return m;
 }
 
@@ -81,7 +81,7 @@ std::string short_repr(const py::handle& value) {
   return text.size() > 60 ? text.substr(0, 57) + "..." : text;
 }
 
-py::array_t<double> to_numpy(const Rows2& matrix) {
+py::array_t<double> to_numpy(const Coordinates& matrix) {
   py::array_t<double> out({static_cast<py::ssize_t>(matrix.rows()), py::ssize_t{2}});
   auto view = out.mutable_unchecked<2>();
   for (Eigen::Index i = 0; i < matrix.rows(); ++i) {
@@ -91,7 +91,7 @@ py::array_t<double> to_numpy(const Rows2& matrix) {
   return out;
 }
 
-py::array_t<double> points(const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>& p) { return to_numpy(Rows2(p)); }
+py::array_t<double> points(const Points& p) { return to_numpy(Coordinates(p)); }
 
 py::array_t<double> vector(const Eigen::VectorXd& v) {
   py::array_t<double> out(static_cast<py::ssize_t>(v.size()));
