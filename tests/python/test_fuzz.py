@@ -391,13 +391,11 @@ def expected(start, c):
     return None, []
 
 
-def check(start, c, counts):
-    where = f"{start.name}: {c.text}"
-    sim, twin = start.make(), start.make()
-    before = snapshot(sim)
-    error, names = expected(start, c)
+def accepted(where, error, names, run, counts):
+    """Runs run(); a refusal must be the expected error (a ValueError when either may come) naming
+    one of `names`, an acceptance must be expected. Counts the outcome; returns whether accepted."""
     try:
-        c.run(sim)
+        run()
     except (ValueError, TypeError, RuntimeError) as raised:
         message = str(raised)
         counts[type(raised).__name__] += 1
@@ -406,9 +404,18 @@ def check(start, c, counts):
             assert any(name in message for name in names), f"{where}: the message names none of {names}: {message}"
         else:
             assert type(raised) is ValueError, f"{where}: {type(raised).__name__}: {message}"
-    else:
-        assert error is None, f"{where}: accepted, expected {error.__name__}"
-        counts["accepted"] += 1
+        return False
+    assert error is None, f"{where}: accepted, expected {error.__name__}"
+    counts["accepted"] += 1
+    return True
+
+
+def check(start, c, counts):
+    where = f"{start.name}: {c.text}"
+    sim, twin = start.make(), start.make()
+    before = snapshot(sim)
+    error, names = expected(start, c)
+    if accepted(where, error, names, lambda: c.run(sim), counts):
         assert sim.validate() is None, where
         assert finite(sim), where
         sim.advance(events=20)
@@ -620,19 +627,7 @@ def check_container(shape, c, counts):
     container, twin = shape.make(), shape.make()
     before = container_snapshot(container)
     error, names = expected(Start(shape.name, shape.make, False), c)  # (never after a start)
-    try:
-        c.run(container)
-    except (ValueError, TypeError, RuntimeError) as raised:
-        message = str(raised)
-        counts[type(raised).__name__] += 1
-        if error is not None:
-            assert type(raised) is error, f"{where}: {type(raised).__name__} instead of {error.__name__}: {message}"
-            assert any(name in message for name in names), f"{where}: the message names none of {names}: {message}"
-        else:
-            assert type(raised) is ValueError, f"{where}: {type(raised).__name__}: {message}"
-    else:
-        assert error is None, f"{where}: accepted, expected {error.__name__}"
-        counts["accepted"] += 1
+    if accepted(where, error, names, lambda: c.run(container), counts):
         sim = billiard.Simulation(container)
         assert container_snapshot(sim.container) == container_snapshot(container), where
         try:
@@ -746,20 +741,16 @@ def check_settings(start, rng, plausible, counts):
     error, names = expected(start, call(where, None, kind, names, setup=False))
     settings = billiard.Settings()
     before = settings_snapshot(settings)
-    try:
+    made = {}
+
+    def make():
         if given == "keyword":
-            settings = billiard.Settings(**{field: value})
+            made["settings"] = billiard.Settings(**{field: value})
         else:
             setattr(settings, field, value)
-        sim = start.make(settings)
-    except (ValueError, TypeError, RuntimeError) as raised:
-        message = str(raised)
-        counts[type(raised).__name__] += 1
-        if error is not None:
-            assert type(raised) is error, f"{where}: {type(raised).__name__} instead of {error.__name__}: {message}"
-            assert any(name in message for name in names), f"{where}: the message names none of {names}: {message}"
-        else:
-            assert type(raised) is ValueError, f"{where}: {type(raised).__name__}: {message}"
+        made["sim"] = start.make(made.get("settings", settings))
+
+    if not accepted(where, error, names, make, counts):
         if kind in ("convert", "type") and given == "attribute":
             # Refused as it was given: the settings are as they were and make the same simulation.
             changed = first_difference(before, settings_snapshot(settings))
@@ -770,8 +761,7 @@ def check_settings(start, rng, plausible, counts):
             changed = first_difference(snapshot(twin), snapshot(sim))
             assert changed is None, f"{where}: after the refused assignment, a simulation has a different {changed}"
         return
-    assert error is None, f"{where}: accepted, expected {error.__name__}"
-    counts["accepted"] += 1
+    sim = made["sim"]
     assert sim.validate() is None and finite(sim), where
     sim.advance(events=20)
     assert sim.validate() is None and finite(sim), where
