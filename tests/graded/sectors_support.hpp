@@ -43,9 +43,6 @@ inline Collision recorded_sectors_step(double R, double a, int n, Coordinates& c
 // Compares one step of the student's propagate_sectors from `t` with the oracle; returns false
 // after reporting the first difference. `hint` is shown when the wrong event is chosen.
 inline bool sectors_step_matches_oracle(const SectorTable& t, const std::string& where, const std::string& hint) {
-  const double scale = sector_time_scale(t);
-  const double speed = std::sqrt(t.v.squaredNorm());
-  const OracleStep expected = oracle_step(t.R, t.a, t.c, t.v, 1e-9 * scale);
   Coordinates c = t.c;
   Velocities v = t.v;
   Collision got{};
@@ -58,28 +55,28 @@ inline bool sectors_step_matches_oracle(const SectorTable& t, const std::string&
                              "or stick out by rounding (~1e-15); use the checks:: functions, which allow for it.");
     return false;
   }
-  const OracleEvent* match = nullptr;
-  for (const auto& e : expected.events) {
-    if (same_event(e, got)) match = &e;
-  }
-  const auto& first = expected.events.front();
-  if (match == nullptr || !(std::abs(got.time - match->time) <= 1e-9 * (match->time + scale))) {
+  const OracleComparison comparison = compare_with_oracle(t.R, t.a, t.c, t.v, sector_time_scale(t), got, c, v);
+  using What = StepDifference::What;
+  const What what = comparison.difference.what;
+  if (comparison.match < 0 || what == What::Time) {
+    const auto& events = comparison.expected.events;
+    const auto& first = events.front();
     std::string also;
-    for (std::size_t k = 1; k < expected.events.size(); ++k) {
-      also += text(" or ", describe_event(expected.events[k].circle, expected.events[k].other), " (a tie)");
+    for (std::size_t k = 1; k < events.size(); ++k) {
+      also += text(" or ", describe_event(events[k].circle, events[k].other), " (a tie)");
     }
     ADD_FAILURE() << explain(text(where, ": the earliest event, ", describe_event(first.circle, first.other),
                                   " after time ", first.time, also, " (as all-pairs propagate finds it)"),
                              text("returned ", describe_collision(got)), hint);
     return false;
   }
-  const double position_error = (c - match->coordinates).rowwise().norm().maxCoeff();
-  const double velocity_error = (v - match->velocities).rowwise().norm().maxCoeff();
-  if (!(position_error <= 1e-9 * t.R) || !(velocity_error <= 1e-9 * speed)) {
-    ADD_FAILURE() << explain(text(where, ": after ", describe_event(match->circle, match->other),
+  if (what == What::Position || what == What::Velocity) {
+    const OracleEvent& match = comparison.event();
+    ADD_FAILURE() << explain(text(where, ": after ", describe_event(match.circle, match.other),
                                   ", every circle moved by v t and the colliding one(s) given new velocities as in "
                                   "propagate"),
-                             text("positions off by up to ", position_error, ", velocities by up to ", velocity_error),
+                             text("positions off by up to ", comparison.difference.position_error,
+                                  ", velocities by up to ", comparison.difference.velocity_error),
                              "once the collision is known, finish exactly as propagate does: move EVERY circle by "
                              "v * t (the positions passed in are those at the start of the call; crossings only "
                              "change your cell lists, never the coordinates), then change the colliding velocities.");

@@ -8,6 +8,7 @@
 #include "billiard/extensions.hpp"
 #include "support/failure_pictures.hpp"
 #include "support/fixtures.hpp"
+#include "support/step_difference.hpp"
 #include "support/student_messages.hpp"
 
 #include <gtest/gtest.h>
@@ -225,8 +226,35 @@ inline int library_other(const Simulation& sim, const EventRecord& e, const std:
   return kWall;
 }
 
+// A student's propagate_walls step (its event `got` and the state c, v it left) against the
+// library's from the same state (the logged `event`, `expected_time` after the start, the state
+// `after`): whether it names the library's event, whether another event it names comes within
+// 1e-9 of the time scale (a tie: rounding decides the order, either is right), and how its step
+// differs from the library's.
+struct WallStepComparison {
+  bool same_event = false;
+  bool tie = false;
+  StepDifference difference;
+  bool agrees() const { return same_event ? difference.none() : tie; }
+};
+
+inline WallStepComparison compare_with_library_step(const Simulation& sim, const EventRecord& event, double expected_time,
+                                                    const State& after, const WallTable& t, const Collision& got,
+                                                    const Coordinates& c, const Velocities& v, double speed) {
+  const double scale = t.R / speed;
+  WallStepComparison comparison;
+  comparison.same_event = library_event_is(sim, event, t.walls, got);
+  if (!comparison.same_event) {
+    comparison.tie = std::abs(got.time - expected_time) <= 1e-9 * scale;
+    return comparison;
+  }
+  comparison.difference = step_difference(got.time, c, v, expected_time, after.positions, after.velocities,
+                                          StepTolerances::of_step(t.R, speed, scale, expected_time));
+  return comparison;
+}
+
 // The judge of the pictures of a failing case (failure_pictures.hpp): the library's step from
-// the board, with matches_library's tolerances and ties.
+// the board, compared as matches_library compares.
 inline Judgement walls_judgement(const Board& board, const Outcome& got) {
   WallTable t;
   t.R = board.table_radius;
@@ -236,7 +264,6 @@ inline Judgement walls_judgement(const Board& board, const Outcome& got) {
   t.walls = board.walls;
   const double speed = std::sqrt(t.v.squaredNorm());
   if (!(speed > 0)) throw std::runtime_error("every circle at rest");
-  const double scale = t.R / speed;
   Simulation sim = library_simulation(t);
   const double start = sim.current_state().time;
   sim.advance(1);
@@ -247,20 +274,9 @@ inline Judgement walls_judgement(const Board& board, const Outcome& got) {
   judgement.expected.event = Collision{event.time - start, event.disc, library_other(sim, event, t.walls)};
   judgement.expected.coordinates = after.positions;
   judgement.expected.velocities = after.velocities;
-  const auto within = [](const Eigen::Matrix<double, Eigen::Dynamic, 2>& mine,
-                         const Eigen::Matrix<double, Eigen::Dynamic, 2>& expected, double tolerance) {
-    return mine.rows() == expected.rows() && (mine - expected).rowwise().norm().maxCoeff() <= tolerance;
-  };
-  const double expected_time = judgement.expected.event.time;
-  if (!got.error.empty()) {
-    judgement.agrees = false;
-  } else if (!library_event_is(sim, event, t.walls, got.event)) {
-    judgement.agrees = std::abs(got.event.time - expected_time) <= 1e-9 * scale;  // a tie: either order is right
-  } else {
-    judgement.agrees = std::abs(got.event.time - expected_time) <= 1e-9 * (scale + expected_time) &&
-                       within(got.coordinates, after.positions, 1e-9 * t.R) &&
-                       within(got.velocities, after.velocities, 1e-9 * speed);
-  }
+  judgement.agrees = got.error.empty() && compare_with_library_step(sim, event, event.time - start, after, t, got.event,
+                                                                    got.coordinates, got.velocities, speed)
+                                              .agrees();
   return judgement;
 }
 
@@ -277,7 +293,6 @@ inline bool matches_library(WallTable t, int steps,
   Simulation sim = library_simulation(t);
   const double speed = std::sqrt(t.v.squaredNorm());
   if (!(speed > 0)) return true;
-  const double scale = t.R / speed;
   const int wall_count = static_cast<int>(t.walls.size());
   for (int e = 0; e < steps; ++e) {
     const State before = sim.current_state();
@@ -302,38 +317,34 @@ inline bool matches_library(WallTable t, int steps,
     const double expected_time = event.time - before.time;
     const State after = sim.current_state();
     const bool wall_event = event.kind == EventKind::DiscWall;
-    if (!library_event_is(sim, event, t.walls, got)) {
-      if (std::abs(got.time - expected_time) <= 1e-9 * scale) continue;  // a tie: either order is right
+    const WallStepComparison comparison = compare_with_library_step(sim, event, expected_time, after, t, got, c, v, speed);
+    if (comparison.agrees()) continue;
+    const int i = comparison.difference.circle;
+    if (!comparison.same_event) {
       ADD_FAILURE() << explain(text("at ", where, ": the earliest event, ", describe_library_event(sim, event, t.walls),
                                     " after time ", expected_time),
                                text("returned ", describe_walls_collision(got, wall_count)), hint_for("event", wall_event));
-      return false;
-    }
-    if (!(std::abs(got.time - expected_time) <= 1e-9 * (scale + expected_time))) {
+    } else if (comparison.difference.what == StepDifference::What::Time) {
       ADD_FAILURE() << explain(text("at ", where, ": ", describe_library_event(sim, event, t.walls), " after time ",
                                     expected_time),
                                text("returned ", describe_walls_collision(got, wall_count)), hint_for("time", wall_event));
-      return false;
+    } else if (i < 0) {
+      ADD_FAILURE() << explain(text("at ", where, ": coordinates and velocities to keep their ", t.n(), " rows"),
+                               text("they have ", c.rows(), " and ", v.rows(), " rows"),
+                               "propagate_walls moves the circles and changes velocities; it never adds or removes rows.");
+    } else if (comparison.difference.what == StepDifference::What::Position) {
+      ADD_FAILURE() << explain(text("at ", where, ": circle ", i, " at ", row(after.positions, i), " after ",
+                                    describe_library_event(sim, event, t.walls)),
+                               text("it is at ", row(c, i), " (started at ", row(start, i), ", velocity ",
+                                    row(start_v, i), ")"),
+                               hint_for("position", wall_event));
+    } else {
+      ADD_FAILURE() << explain(text("at ", where, ": circle ", i, " to have velocity ", row(after.velocities, i),
+                                    " after ", describe_library_event(sim, event, t.walls)),
+                               text("its velocity is ", row(v, i), " (before the step ", row(start_v, i), ")"),
+                               hint_for("velocity", wall_event));
     }
-    for (int i = 0; i < t.n(); ++i) {
-      const Vector expected_r = after.positions.row(i);
-      const Vector expected_v = after.velocities.row(i);
-      if (!((c.row(i) - expected_r).norm() <= 1e-9 * t.R)) {
-        ADD_FAILURE() << explain(text("at ", where, ": circle ", i, " at ", row(after.positions, i), " after ",
-                                      describe_library_event(sim, event, t.walls)),
-                                 text("it is at ", row(c, i), " (started at ", row(start, i), ", velocity ",
-                                      row(start_v, i), ")"),
-                                 hint_for("position", wall_event));
-        return false;
-      }
-      if (!((v.row(i) - expected_v).norm() <= 1e-9 * speed)) {
-        ADD_FAILURE() << explain(text("at ", where, ": circle ", i, " to have velocity ", row(after.velocities, i),
-                                      " after ", describe_library_event(sim, event, t.walls)),
-                                 text("its velocity is ", row(v, i), " (before the step ", row(start_v, i), ")"),
-                                 hint_for("velocity", wall_event));
-        return false;
-      }
-    }
+    return false;
   }
   return true;
 }

@@ -150,33 +150,43 @@ std::string describe_event(int circle, int other) {
   return "circles " + std::to_string(circle) + " and " + std::to_string(other);
 }
 
+OracleComparison compare_with_oracle(double R, double a, const Coordinates& c0, const Velocities& v0, double scale,
+                                     const Collision& got, const Coordinates& c, const Velocities& v) {
+  OracleComparison comparison;
+  comparison.expected = oracle_step(R, a, c0, v0, 1e-9 * scale);
+  const std::vector<OracleEvent>& events = comparison.expected.events;
+  for (std::size_t k = 0; k < events.size(); ++k) {
+    if (same_event(events[k], got)) comparison.match = static_cast<int>(k);
+  }
+  if (comparison.match >= 0) {
+    const OracleEvent& match = comparison.event();
+    comparison.difference = step_difference(got.time, c, v, match.time, match.coordinates, match.velocities,
+                                            StepTolerances::of_step(R, std::sqrt(v0.squaredNorm()), scale, match.time));
+  }
+  return comparison;
+}
+
 Judgement oracle_judgement(const Board& board, const Outcome& got) {
   Judgement judgement;
   const double speed = std::sqrt(board.velocities.squaredNorm());
-  const OracleStep step = speed > 0 ? oracle_step(board.table_radius, board.circle_radius, board.coordinates,
-                                                  board.velocities, 1e-9 * board.table_radius / speed)
-                                    : OracleStep{std::numeric_limits<double>::infinity(), {}};
-  if (step.events.empty()) {  // nothing can happen: the step function must refuse the state
+  if (!(speed > 0)) {  // nothing can happen: the step function must refuse the state
     judgement.expected.none = true;
     judgement.agrees = !got.error.empty();
     return judgement;
   }
-  const double scale = board.table_radius / speed;
-  const OracleEvent* match = &step.events.front();
-  for (const auto& e : step.events) {
-    if (same_event(e, got.event)) match = &e;
+  const OracleComparison comparison = compare_with_oracle(board.table_radius, board.circle_radius, board.coordinates,
+                                                          board.velocities, board.table_radius / speed, got.event,
+                                                          got.coordinates, got.velocities);
+  if (comparison.expected.events.empty()) {
+    judgement.expected.none = true;
+    judgement.agrees = !got.error.empty();
+    return judgement;
   }
-  judgement.expected.event = Collision{match->time, match->circle, match->other};
-  judgement.expected.coordinates = match->coordinates;
-  judgement.expected.velocities = match->velocities;
-  const auto within = [](const Eigen::Matrix<double, Eigen::Dynamic, 2>& mine,
-                         const Eigen::Matrix<double, Eigen::Dynamic, 2>& expected, double tolerance) {
-    return mine.rows() == expected.rows() && (mine - expected).rowwise().norm().maxCoeff() <= tolerance;
-  };
-  judgement.agrees = got.error.empty() && same_event(*match, got.event) &&
-                     std::abs(got.event.time - match->time) <= 1e-9 * (match->time + scale) &&
-                     within(got.coordinates, match->coordinates, 1e-9 * board.table_radius) &&
-                     within(got.velocities, match->velocities, 1e-9 * speed);
+  const OracleEvent& match = comparison.event();
+  judgement.expected.event = Collision{match.time, match.circle, match.other};
+  judgement.expected.coordinates = match.coordinates;
+  judgement.expected.velocities = match.velocities;
+  judgement.agrees = got.error.empty() && comparison.agrees();
   return judgement;
 }
 

@@ -14,6 +14,7 @@
 
 #include "billiard/course.hpp"
 #include "support/failure_pictures.hpp"
+#include "support/step_difference.hpp"
 
 #include <string>
 #include <vector>
@@ -48,6 +49,19 @@ bool same_event(const OracleEvent& event, const Collision& collision);
 
 // "circle 3 with the wall" or "circles 2 and 7".
 std::string describe_event(int circle, int other);
+
+// A student's step (its event `got` and the state it left, c and v) against the oracle's from
+// the state before it (c0, v0): the tied event it names (match; -1 if none) and how it differs
+// from that event's step. `scale` is the suite's time scale: events within 1e-9 of it are ties.
+struct OracleComparison {
+  OracleStep expected;
+  int match = -1;
+  StepDifference difference;
+  bool agrees() const { return match >= 0 && difference.none(); }
+  const OracleEvent& event() const { return expected.events[static_cast<std::size_t>(match >= 0 ? match : 0)]; }
+};
+OracleComparison compare_with_oracle(double R, double a, const Coordinates& c0, const Velocities& v0, double scale,
+                                     const Collision& got, const Coordinates& c, const Velocities& v);
 
 // The judge of a step on a plain table (propagate, propagate_sectors) for the pictures of a
 // failing case: the oracle's step from the board, with the suites' tolerances (1e-9 of the time
