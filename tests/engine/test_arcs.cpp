@@ -10,8 +10,9 @@
 #include <optional>
 #include <cmath>
 #include <cstdio>
-#include <functional>
 #include <random>
+#include <string>
+#include <vector>
 
 using billiard::kNever;
 using billiard::Vec2;
@@ -180,6 +181,12 @@ namespace {
 
 using engine_test::make_disc;
 
+billiard::Settings with_gravity(const Vec2& g) {
+  billiard::Settings settings;
+  settings.gravity = g;
+  return settings;
+}
+
 // The first event of a one-disc simulation.
 billiard::EventRecord first_event(billiard::Simulation& sim) {
   sim.enable_event_log(true);
@@ -195,9 +202,9 @@ TEST(ArcWall, DiscThroughTheGapMeetsTheInsideOfAFreeArc) {
   // The upper half of rho = 5 in the box [-10, 10]^2; a disc of radius 0.5 from (0, -8) moving
   // up passes the open lower half and meets the inside of the arc at y = 4.5, t = 12.5, and
   // bounces straight back.
-  billiard::Simulation sim;
-  sim.add_box(Vec2(-10, -10), Vec2(10, 10));
-  const int arc = sim.add_arc(Vec2(0, 0), 5, 0, kPi);
+  billiard::Container container = billiard::box(Vec2(-10, -10), Vec2(10, 10));
+  const int arc = container.add_arc(Vec2(0, 0), 5, 0, kPi);
+  billiard::Simulation sim(container);
   sim.add_disc(make_disc(Vec2(0, -8), Vec2(0, 1), 0.5));
   const billiard::EventRecord e = first_event(sim);
   EXPECT_EQ(e.wall, arc);
@@ -206,7 +213,7 @@ TEST(ArcWall, DiscThroughTheGapMeetsTheInsideOfAFreeArc) {
   EXPECT_DOUBLE_EQ(e.velocity.y(), -1);
   // The arc's end points are point walls.
   int points = 0;
-  for (const billiard::WallShape& w : sim.walls()) {
+  for (const billiard::WallShape& w : sim.container().walls()) {
     if (w.kind == billiard::WallKind::Point && ((w.a - Vec2(5, 0)).norm() < 1e-14 || (w.a - Vec2(-5, 0)).norm() < 1e-14)) ++points;
   }
   EXPECT_EQ(points, 2);
@@ -214,13 +221,13 @@ TEST(ArcWall, DiscThroughTheGapMeetsTheInsideOfAFreeArc) {
 
 TEST(ArcWall, DiscAimedAtAnEndPointHitsThePoint) {
   // From (5, -3) straight up at the end point (5, 0): contact at t = 3 - 0.5 = 2.5, head on.
-  billiard::Simulation sim;
-  sim.add_box(Vec2(-10, -10), Vec2(10, 10));
-  sim.add_arc(Vec2(0, 0), 5, 0, kPi);
+  billiard::Container container = billiard::box(Vec2(-10, -10), Vec2(10, 10));
+  container.add_arc(Vec2(0, 0), 5, 0, kPi);
+  billiard::Simulation sim(container);
   sim.add_disc(make_disc(Vec2(5, -3), Vec2(0, 1), 0.5));
   const billiard::EventRecord e = first_event(sim);
   ASSERT_GE(e.wall, 0);
-  EXPECT_EQ(sim.walls()[static_cast<std::size_t>(e.wall)].kind, billiard::WallKind::Point);
+  EXPECT_EQ(sim.container().walls()[static_cast<std::size_t>(e.wall)].kind, billiard::WallKind::Point);
   EXPECT_DOUBLE_EQ(e.time, 2.5);
   EXPECT_NEAR(e.velocity.y(), -1, 1e-15);
 }
@@ -228,21 +235,21 @@ TEST(ArcWall, DiscAimedAtAnEndPointHitsThePoint) {
 TEST(ArcWall, DiscAimedAtTheGapReachesTheBoxWall) {
   // Moving right along y = -2 under the upper-half arc: nothing until the box wall x = 10 at
   // t = (9.5 - (-8)) = 17.5.
-  billiard::Simulation sim;
-  sim.add_box(Vec2(-10, -10), Vec2(10, 10));
-  sim.add_arc(Vec2(0, 0), 5, 0, kPi);
+  billiard::Container container = billiard::box(Vec2(-10, -10), Vec2(10, 10));
+  container.add_arc(Vec2(0, 0), 5, 0, kPi);
+  billiard::Simulation sim(container);
   sim.add_disc(make_disc(Vec2(-8, -2), Vec2(1, 0), 0.5));
   const billiard::EventRecord e = first_event(sim);
-  EXPECT_EQ(sim.walls()[static_cast<std::size_t>(e.wall)].kind, billiard::WallKind::Segment);
+  EXPECT_EQ(sim.container().walls()[static_cast<std::size_t>(e.wall)].kind, billiard::WallKind::Segment);
   EXPECT_DOUBLE_EQ(e.time, 17.5);
 }
 
 TEST(ArcWall, DiscObstacleGrazedAndHit) {
   // Obstacle rho = 2 at the origin, disc radius 1 along y = b from x = -10 at speed 1.
   auto run = [](double b) {
-    billiard::Simulation sim;
-    sim.add_box(Vec2(-20, -20), Vec2(20, 20));
-    sim.add_disc_obstacle(Vec2(0, 0), 2);
+    billiard::Container container = billiard::box(Vec2(-20, -20), Vec2(20, 20));
+    container.add_obstacle(Vec2(0, 0), 2);
+    billiard::Simulation sim(container);
     sim.add_disc(make_disc(Vec2(-10, b), Vec2(1, 0), 1));
     return first_event(sim);
   };
@@ -266,10 +273,9 @@ TEST(ArcWall, DiscObstacleGrazedAndHit) {
 
 TEST(ArcWall, DiscsInsideAFreeRingStayInsideItUnderGravity) {
   // A whole free circle of radius 5 at (3, 2) inside a box: discs placed inside it stay there.
-  billiard::Simulation sim;
-  sim.add_box(Vec2(-10, -10), Vec2(20, 20));
-  sim.add_arc(Vec2(3, 2), 5, 1, 1 + 2 * kPi);
-  sim.set_gravity(Vec2(0.1, -1));
+  billiard::Container container = billiard::box(Vec2(-10, -10), Vec2(20, 20));
+  container.add_arc(Vec2(3, 2), 5, 1, 1 + 2 * kPi);
+  billiard::Simulation sim(container, with_gravity(Vec2(0.1, -1)));
   for (int k = 0; k < 6; ++k) sim.add_disc(make_disc(Vec2(3 + 1.2 * (k - 2.5), 2 + 0.3 * k), Vec2(std::cos(k), std::sin(k)), 0.4));
   const double energy = sim.kinetic_energy() + sim.potential_energy();
   sim.advance(20000);
@@ -311,25 +317,20 @@ TEST(CurvedContainer, StressStadiumUnderGravityKeepsEnergyOverAMillionCollisions
   // (kinetic plus potential) changes only by rounding: about 1e-16 relative per collision as a
   // random walk, larger under gravity because positions enter the potential energy (the gravity
   // tests allow 1e-10 over 2e4 collisions); over 1e6 collisions we allow 1e-9.
-  billiard::Simulation sim;
-  sim.add_stadium(Vec2(0, 0), 10, 10);
-  sim.set_gravity(Vec2(0.2, -1));
+  billiard::Simulation sim(billiard::stadium(Vec2(0, 0), 10, 10), with_gravity(Vec2(0.2, -1)));
   sim.add_random_discs(100, 0.4, 1.0, 5.0, 31);
   EXPECT_LT(long_run(sim, 1000000, 5000), 1e-9);
 }
 
 TEST(CurvedContainer, StadiumUnderGravityKeepsEnergy) {
   // The stress test above, shorter (1e5 collisions, a second): the same bound.
-  billiard::Simulation sim;
-  sim.add_stadium(Vec2(0, 0), 10, 10);
-  sim.set_gravity(Vec2(0.2, -1));
+  billiard::Simulation sim(billiard::stadium(Vec2(0, 0), 10, 10), with_gravity(Vec2(0.2, -1)));
   sim.add_random_discs(100, 0.4, 1.0, 5.0, 35);
   EXPECT_LT(long_run(sim, 100000, 5000), 1e-9);
 }
 
 TEST(CurvedContainer, SinaiBilliardKeepsEnergy) {
-  billiard::Simulation sim;
-  sim.add_sinai_billiard(Vec2(0, 0), Vec2(20, 20), 5);
+  billiard::Simulation sim(billiard::sinai_billiard(Vec2(0, 0), Vec2(20, 20), 5));
   sim.add_random_discs(100, 0.4, 1.0, 1.0, 32);
   EXPECT_LT(long_run(sim, 200000, 5000), 1e-11);
   // No disc inside the obstacle.
@@ -340,8 +341,7 @@ TEST(CurvedContainer, SinaiBilliardKeepsEnergy) {
 }
 
 TEST(CurvedContainer, MushroomKeepsEnergy) {
-  billiard::Simulation sim;
-  sim.add_mushroom(Vec2(0, 0), 10, 6, 8);
+  billiard::Simulation sim(billiard::mushroom(Vec2(0, 0), 10, 6, 8));
   sim.add_random_discs(100, 0.4, 1.0, 1.0, 33);
   EXPECT_LT(long_run(sim, 200000, 5000), 1e-11);
 }
@@ -349,12 +349,11 @@ TEST(CurvedContainer, MushroomKeepsEnergy) {
 TEST(CurvedContainer, UnionOfCirclesKeepsEnergy) {
   // Three overlapping circles with a concave corner wherever two boundaries meet, and a fourth
   // circle inside the first (no boundary of its own).
-  billiard::Simulation sim;
   billiard::Points centres(4, 2);
   centres << 0, 0, 12, 0, 6, 9, 1, 1;
-  sim.add_union_of_circles(centres, {8, 6, 5, 2});
+  billiard::Simulation sim(billiard::union_of_circles(centres, {8, 6, 5, 2}));
   int arcs = 0, points = 0;
-  for (const billiard::WallShape& w : sim.walls()) {
+  for (const billiard::WallShape& w : sim.container().walls()) {
     arcs += w.kind == billiard::WallKind::Arc ? 1 : 0;
     points += w.kind == billiard::WallKind::Point ? 1 : 0;
   }
@@ -370,9 +369,8 @@ TEST(CurvedContainer, UnionOfCirclesKeepsEnergy) {
 
 TEST(CurvedContainer, InsideTestsOfTheCurvedOutlines) {
   // A disc is accepted only inside the container and clear of its walls.
-  auto accepts = [](const std::function<void(billiard::Simulation&)>& build, const Vec2& p, double a) {
-    billiard::Simulation sim;
-    build(sim);
+  auto accepts = [](const billiard::Container& container, const Vec2& p, double a) {
+    billiard::Simulation sim(container);
     try {
       sim.add_disc(make_disc(p, Vec2(1, 0), a));
       return true;
@@ -380,34 +378,32 @@ TEST(CurvedContainer, InsideTestsOfTheCurvedOutlines) {
       return false;
     }
   };
-  auto stadium = [](billiard::Simulation& sim) { sim.add_stadium(Vec2(1, 2), 3, 4); };
+  const billiard::Container stadium = billiard::stadium(Vec2(1, 2), 3, 4);
   EXPECT_TRUE(accepts(stadium, Vec2(1, 2), 0.5));
   EXPECT_TRUE(accepts(stadium, Vec2(1 + 2 + 2.4, 2), 0.5));   // in the right half circle
   EXPECT_FALSE(accepts(stadium, Vec2(1 + 2 + 2.6, 2), 0.5));  // overlaps it
   EXPECT_FALSE(accepts(stadium, Vec2(1 + 2 + 3.5, 2), 0.5));  // outside
   EXPECT_FALSE(accepts(stadium, Vec2(1, 2 + 3.5), 0.5));      // above the top side
   EXPECT_FALSE(accepts(stadium, Vec2(1 + 2 + 2.5, 2 + 2.5), 0.1));  // beyond the corner of the box of the arcs
-  auto sinai = [](billiard::Simulation& sim) { sim.add_sinai_billiard(Vec2(0, 0), Vec2(10, 10), 2); };
+  const billiard::Container sinai = billiard::sinai_billiard(Vec2(0, 0), Vec2(10, 10), 2);
   EXPECT_TRUE(accepts(sinai, Vec2(1, 1), 0.5));
   EXPECT_FALSE(accepts(sinai, Vec2(5, 5), 0.5));  // inside the obstacle
   EXPECT_TRUE(accepts(sinai, Vec2(5, 7.6), 0.5));
   EXPECT_FALSE(accepts(sinai, Vec2(5, 7.4), 0.5));  // overlaps the obstacle
-  auto mushroom = [](billiard::Simulation& sim) { sim.add_mushroom(Vec2(0, 0), 5, 2, 4); };
+  const billiard::Container mushroom = billiard::mushroom(Vec2(0, 0), 5, 2, 4);
   EXPECT_TRUE(accepts(mushroom, Vec2(0, -3), 0.5));   // in the stem
   EXPECT_TRUE(accepts(mushroom, Vec2(3, 0.6), 0.5));  // in the cap, above the ledge
   EXPECT_FALSE(accepts(mushroom, Vec2(3, -1), 0.5));  // beside the stem, under the cap
   EXPECT_TRUE(accepts(mushroom, Vec2(0, 0), 0.5));    // where the stem meets the cap
-  auto table_with_obstacle = [](billiard::Simulation& sim) {
-    sim.set_circular_table(10);
-    sim.add_disc_obstacle(Vec2(3, 0), 2);
-  };
+  billiard::Container table_with_obstacle = billiard::circular_table(10);
+  table_with_obstacle.add_obstacle(Vec2(3, 0), 2);
   EXPECT_TRUE(accepts(table_with_obstacle, Vec2(0, 0), 0.5));
   EXPECT_TRUE(accepts(table_with_obstacle, Vec2(-8, 0), 0.5));
   EXPECT_FALSE(accepts(table_with_obstacle, Vec2(3, 0.5), 0.5));  // inside the obstacle
   EXPECT_FALSE(accepts(table_with_obstacle, Vec2(9.8, 0), 0.5));  // outside the table
   billiard::Points centres(2, 2);
   centres << 0, 0, 3, 0;
-  auto pair = [&](billiard::Simulation& sim) { sim.add_union_of_circles(centres, {2, 2}); };
+  const billiard::Container pair = billiard::union_of_circles(centres, {2, 2});
   EXPECT_TRUE(accepts(pair, Vec2(1.5, 0), 0.5));
   EXPECT_TRUE(accepts(pair, Vec2(4, 0), 0.5));
   EXPECT_FALSE(accepts(pair, Vec2(1.5, 1.5), 0.5));  // at the upper corner where the circles meet
@@ -415,63 +411,104 @@ TEST(CurvedContainer, InsideTestsOfTheCurvedOutlines) {
 }
 
 namespace {
-// Runs `call`, expects std::invalid_argument whose message contains `piece`, and the simulation's
-// walls unchanged.
+// The message of the std::invalid_argument that `call` throws ("no exception" if it returns).
 template <class Call>
-void expect_refused(billiard::Simulation& sim, Call call, const char* piece) {
-  const std::size_t walls = sim.walls().size();
+std::string refusal(Call call) {
   try {
     call();
-    ADD_FAILURE() << "no exception for " << piece;
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(piece), std::string::npos) << e.what() << " lacks " << piece;
+    return e.what();
   }
-  EXPECT_EQ(sim.walls().size(), walls) << piece;
+  return "no exception";
+}
+
+bool same_walls(const std::vector<billiard::WallShape>& x, const std::vector<billiard::WallShape>& y) {
+  if (x.size() != y.size()) return false;
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    if (x[k].kind != y[k].kind || x[k].a != y[k].a || x[k].b != y[k].b || x[k].radius != y[k].radius ||
+        x[k].start_angle != y[k].start_angle || x[k].sweep != y[k].sweep) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Runs `call` (a shape function), expects std::invalid_argument whose message contains `piece`.
+template <class Call>
+void expect_refused(Call call, const std::string& piece) {
+  const std::string message = refusal(call);
+  EXPECT_NE(message.find(piece), std::string::npos) << message << " lacks " << piece;
+}
+
+// Runs `call` (an add_ call on `container`), expects std::invalid_argument whose message contains
+// `piece`, and the container unchanged.
+template <class Call>
+void expect_refused(const billiard::Container& container, Call call, const std::string& piece) {
+  const std::vector<billiard::WallShape> walls = container.walls();
+  const std::size_t outlines = container.outlines().size();
+  expect_refused(call, piece);
+  EXPECT_TRUE(same_walls(container.walls(), walls)) << piece;
+  EXPECT_EQ(container.outlines().size(), outlines) << piece;
+}
+
+// A wall may not cross a disc: with the container fixed before the discs, add_disc refuses a disc
+// that the container's walls would cross (or leave outside), naming `piece`, and adds nothing.
+void expect_disc_refused(const billiard::Container& container, const billiard::Disc& disc, const std::string& piece) {
+  billiard::Simulation sim(container);
+  const std::string message = refusal([&] { sim.add_disc(disc); });
+  EXPECT_NE(message.find(piece), std::string::npos) << message << " lacks " << piece;
+  EXPECT_EQ(sim.size(), 0) << piece;
 }
 }  // namespace
 
 TEST(CurvedContainer, BadArgumentsAreRefusedNamingTheArgumentAndLeaveTheStateUnchanged) {
-  billiard::Simulation sim;
-  sim.add_box(Vec2(-50, -50), Vec2(50, 50));
-  sim.add_disc(make_disc(Vec2(0, 0), Vec2(1, 0), 1));
+  billiard::Container container = billiard::box(Vec2(-50, -50), Vec2(50, 50));
+  const billiard::Disc disc = make_disc(Vec2(0, 0), Vec2(1, 0), 1);
   const double nan = std::nan("");
-  expect_refused(sim, [&] { sim.add_arc(Vec2(nan, 0), 1, 0, 1); }, "add_arc: centre");
-  expect_refused(sim, [&] { sim.add_arc(Vec2(5, 5), -1, 0, 1); }, "add_arc: radius");
-  expect_refused(sim, [&] { sim.add_arc(Vec2(5, 5), 1, kNever, 1); }, "add_arc: start_angle");
-  expect_refused(sim, [&] { sim.add_arc(Vec2(5, 5), 1, 0, nan); }, "add_arc: end_angle");
-  expect_refused(sim, [&] { sim.add_arc(Vec2(5, 5), 1, 1, 1); }, "end_angle - start_angle");
-  expect_refused(sim, [&] { sim.add_arc(Vec2(5, 5), 1, 0, 7); }, "end_angle - start_angle");
-  expect_refused(sim, [&] { sim.add_arc(Vec2(0, 1.5), 1, kPi, 2 * kPi); }, "overlaps disc 0");
-  expect_refused(sim, [&] { sim.add_disc_obstacle(Vec2(0, 0), 3); }, "add_disc_obstacle: disc 0");
-  expect_refused(sim, [&] { sim.add_disc_obstacle(Vec2(0, 0), 0); }, "add_disc_obstacle: radius");
-  expect_refused(sim, [&] { sim.add_stadium(Vec2(0, 0), 0, 1); }, "add_stadium: radius");
-  expect_refused(sim, [&] { sim.add_stadium(Vec2(0, 0), 1, -1); }, "add_stadium: length");
-  expect_refused(sim, [&] { sim.add_stadium(Vec2(0, kNever), 1, 1); }, "add_stadium: centre");
-  expect_refused(sim, [&] { sim.add_stadium(Vec2(0, 0), 0.5, 1); }, "add_stadium: disc 0");
-  expect_refused(sim, [&] { sim.add_sinai_billiard(Vec2(0, 0), Vec2(-1, 1), 0.1); }, "add_sinai_billiard: upper");
-  expect_refused(sim, [&] { sim.add_sinai_billiard(Vec2(-10, -10), Vec2(10, 10), 10); }, "add_sinai_billiard: obstacle_radius");
-  // All or nothing: the box fits around the disc, the obstacle does not; neither is added.
-  billiard::Simulation bare;
-  bare.add_disc(make_disc(Vec2(0, 0), Vec2(1, 0), 1));
-  expect_refused(bare, [&] { bare.add_sinai_billiard(Vec2(-10, -10), Vec2(10, 10), 2); }, "add_disc_obstacle: disc 0");
-  EXPECT_TRUE(bare.walls().empty());
-  expect_refused(sim, [&] { sim.add_mushroom(Vec2(0, 0), -1, 1, 1); }, "add_mushroom: cap_radius");
-  expect_refused(sim, [&] { sim.add_mushroom(Vec2(0, 0), 5, 10, 1); }, "add_mushroom: stem_width");
-  expect_refused(sim, [&] { sim.add_mushroom(Vec2(0, 0), 5, 2, 0); }, "add_mushroom: stem_height");
+  expect_refused(container, [&] { container.add_arc(Vec2(nan, 0), 1, 0, 1); }, "add_arc: centre");
+  expect_refused(container, [&] { container.add_arc(Vec2(5, 5), -1, 0, 1); }, "add_arc: radius");
+  expect_refused(container, [&] { container.add_arc(Vec2(5, 5), 1, kNever, 1); }, "add_arc: start_angle");
+  expect_refused(container, [&] { container.add_arc(Vec2(5, 5), 1, 0, nan); }, "add_arc: end_angle");
+  expect_refused(container, [&] { container.add_arc(Vec2(5, 5), 1, 1, 1); }, "end_angle - start_angle");
+  expect_refused(container, [&] { container.add_arc(Vec2(5, 5), 1, 0, 7); }, "end_angle - start_angle");
+  {
+    billiard::Container with_arc = container;
+    const int arc = with_arc.add_arc(Vec2(0, 1.5), 1, kPi, 2 * kPi);
+    expect_disc_refused(with_arc, disc, "disc 0 at (0, 0) overlaps wall " + std::to_string(arc));
+  }
+  {
+    billiard::Container with_obstacle = container;
+    with_obstacle.add_obstacle(Vec2(0, 0), 3);
+    expect_disc_refused(with_obstacle, disc, "disc 0 at (0, 0) is outside the walls");
+  }
+  expect_refused(container, [&] { container.add_obstacle(Vec2(0, 0), 0); }, "add_obstacle: radius");
+  expect_refused([&] { billiard::stadium(Vec2(0, 0), 0, 1); }, "stadium: radius");
+  expect_refused([&] { billiard::stadium(Vec2(0, 0), 1, -1); }, "stadium: length");
+  expect_refused([&] { billiard::stadium(Vec2(0, kNever), 1, 1); }, "stadium: centre");
+  expect_disc_refused(billiard::stadium(Vec2(0, 0), 0.5, 1), disc, "disc 0 at (0, 0) overlaps wall");
+  expect_refused([&] { billiard::sinai_billiard(Vec2(0, 0), Vec2(-1, 1), 0.1); }, "sinai_billiard: upper");
+  expect_refused([&] { billiard::sinai_billiard(Vec2(-10, -10), Vec2(10, 10), 10); }, "sinai_billiard: obstacle_radius");
+  // The box fits around the disc, the obstacle does not.
+  expect_disc_refused(billiard::sinai_billiard(Vec2(-10, -10), Vec2(10, 10), 2), disc, "disc 0 at (0, 0) is outside the walls");
+  expect_refused([&] { billiard::mushroom(Vec2(0, 0), -1, 1, 1); }, "mushroom: cap_radius");
+  expect_refused([&] { billiard::mushroom(Vec2(0, 0), 5, 10, 1); }, "mushroom: stem_width");
+  expect_refused([&] { billiard::mushroom(Vec2(0, 0), 5, 2, 0); }, "mushroom: stem_height");
   billiard::Points centres(2, 2);
   centres << 0, 0, 3, 0;
-  expect_refused(sim, [&] { sim.add_union_of_circles(centres, {2}); }, "add_union_of_circles: radii");
-  expect_refused(sim, [&] { sim.add_union_of_circles(centres, {2, -1}); }, "add_union_of_circles: circle 1: radius");
-  expect_refused(sim, [&] { sim.add_union_of_circles(billiard::Points(0, 2), {}); }, "add_union_of_circles: centres");
+  expect_refused([&] { billiard::union_of_circles(centres, {2}); }, "union_of_circles: radii");
+  expect_refused([&] { billiard::union_of_circles(centres, {2, -1}); }, "union_of_circles: circle 1: radius");
+  expect_refused([&] { billiard::union_of_circles(billiard::Points(0, 2), {}); }, "union_of_circles: centres");
   billiard::Points twice(2, 2);
   twice << 1, 1, 1, 1;
-  expect_refused(sim, [&] { sim.add_union_of_circles(twice, {2, 2}); }, "coincide");
+  expect_refused([&] { billiard::union_of_circles(twice, {2, 2}); }, "coincide");
   // Periodic boxes have no walls.
-  billiard::Simulation periodic;
-  periodic.set_periodic_box(10, 10);
+  billiard::Container periodic = billiard::periodic_box(10, 10);
   expect_refused(periodic, [&] { periodic.add_arc(Vec2(5, 5), 1, 0, 1); }, "periodic");
-  expect_refused(periodic, [&] { periodic.add_stadium(Vec2(5, 5), 1, 1); }, "periodic");
-  // The simulation still runs.
+  expect_refused(periodic, [&] { periodic.add_obstacle(Vec2(5, 5), 1); }, "periodic");
+  expect_refused(periodic, [&] { periodic.add_obstacle(billiard::stadium(Vec2(5, 5), 1, 1)); }, "periodic");
+  // The container still makes a simulation that runs.
+  billiard::Simulation sim(container);
+  sim.add_disc(disc);
   EXPECT_EQ(sim.advance(3).collisions, 3);
   EXPECT_EQ(sim.validate(), std::nullopt);
 }
@@ -481,11 +518,10 @@ TEST(ArcWall, FreeArcsUnderGravityWithDiscsPassingTheirGaps) {
   // discs fall into the cup through its open top, onto the dome and past the ends of both, so
   // every kind of arc contact happens. Every event is validated; energy to 1e-10 (as the
   // gravity tests).
-  billiard::Simulation sim;
-  sim.add_box(Vec2(-15, -15), Vec2(15, 15));
-  const int cup = sim.add_arc(Vec2(0, -4), 6, kPi, 2 * kPi);
-  const int dome = sim.add_arc(Vec2(0, 8), 4, 0, kPi);
-  sim.set_gravity(Vec2(0.1, -1));
+  billiard::Container container = billiard::box(Vec2(-15, -15), Vec2(15, 15));
+  const int cup = container.add_arc(Vec2(0, -4), 6, kPi, 2 * kPi);
+  const int dome = container.add_arc(Vec2(0, 8), 4, 0, kPi);
+  billiard::Simulation sim(container, with_gravity(Vec2(0.1, -1)));
   sim.add_random_discs(40, 0.5, 1.0, 4.0, 36);
   const double energy = sim.kinetic_energy() + sim.potential_energy();
   sim.set_validate_every_event(true);
@@ -500,10 +536,10 @@ TEST(ArcWall, FreeArcsUnderGravityWithDiscsPassingTheirGaps) {
   for (const billiard::EventRecord& e : sim.event_log()) {
     if (e.wall == cup || e.wall == dome) {
       const int k = e.wall == cup ? 0 : 1;
-      const billiard::WallShape& arc = sim.walls()[static_cast<std::size_t>(e.wall)];
+      const billiard::WallShape& arc = sim.container().walls()[static_cast<std::size_t>(e.wall)];
       ((e.position - arc.a).norm() < arc.radius ? inside : outside)[k]++;
-    } else if (e.wall >= 0 && sim.walls()[static_cast<std::size_t>(e.wall)].kind == billiard::WallKind::Point &&
-               sim.walls()[static_cast<std::size_t>(e.wall)].a.cwiseAbs().maxCoeff() < 15) {
+    } else if (e.wall >= 0 && sim.container().walls()[static_cast<std::size_t>(e.wall)].kind == billiard::WallKind::Point &&
+               sim.container().walls()[static_cast<std::size_t>(e.wall)].a.cwiseAbs().maxCoeff() < 15) {
       ++ends;
     }
   }

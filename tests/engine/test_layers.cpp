@@ -24,8 +24,7 @@ namespace {
 
 // The engine alone, through these headers: a disc sent at the table's wall hits it at t = 1.
 TEST(Layers, EngineHeadersWorkWithoutTheCourse) {
-  billiard::Simulation sim;
-  sim.set_circular_table(3.0);
+  billiard::Simulation sim(billiard::circular_table(3.0));
   billiard::Disc disc;
   disc.velocity = {2.0, 0.0};
   sim.add_disc(disc);

@@ -18,9 +18,10 @@ bool bounded(const Vec2& v) { return bounded(v.x()) && bounded(v.y()); }
 
 [[noreturn]] void refuse(const std::string& message) { throw std::invalid_argument(message); }
 
-// A length that must be positive: "CALL: NAME must be positive, finite and at most 1e50".
-void check_length(const char* call, const char* name, double value, const char* note = "") {
-  if (!(value > 0) || !bounded(value)) refuse(describe(call, ": ", name, " must be positive, finite and at most 1e50", note, ", got ", value));
+// A length: in [1e-50, 1e50] like a disc's radius (no disc fits in less, and the engine's
+// squares of it must neither overflow nor underflow).
+void check_length(const std::string& call, const char* name, double value, const char* note = "") {
+  if (!limits::in_scale(value)) refuse(describe(call, ": ", name, " ", limits::kMustBeInScale, note, ", got ", value));
 }
 
 void check_point(const std::string& call, const char* name, const Vec2& p) {
@@ -31,7 +32,7 @@ void check_point(const std::string& call, const char* name, const Vec2& p) {
 // 0 < end - start <= 2 pi. `call` names the call (and the circle) in messages.
 WallShape checked_arc(const std::string& call, const Vec2& centre, double radius, double start_angle, double end_angle) {
   check_point(call, "centre", centre);
-  if (!(radius > 0) || !bounded(radius)) refuse(describe(call, ": radius must be positive, finite and at most 1e50, got ", radius));
+  check_length(call, "radius", radius);
   if (!std::isfinite(start_angle) || std::abs(start_angle) > 1e6) refuse(describe(call, ": start_angle must be finite and at most 1e6 in magnitude (radians), got ", start_angle));
   if (!std::isfinite(end_angle) || std::abs(end_angle) > 1e6) refuse(describe(call, ": end_angle must be finite and at most 1e6 in magnitude (radians), got ", end_angle));
   const double sweep = end_angle - start_angle;
@@ -73,9 +74,9 @@ Container periodic_box(double width, double height) {
 Container box(const Vec2& lower, const Vec2& upper) {
   check_point("box", "lower", lower);
   check_point("box", "upper", upper);
-  const Vec2 size = upper - lower;  // (sides whose square underflows have no direction)
-  if (!(size.x() > 0 && size.y() > 0 && size.x() * size.x() > 0 && size.y() * size.y() > 0)) {
-    refuse("box: upper " + describe(upper) + " must exceed lower " + describe(lower) + " in x and y");
+  const Vec2 size = upper - lower;
+  if (!(size.x() >= limits::kSmallest && size.y() >= limits::kSmallest)) {
+    refuse("box: upper " + describe(upper) + " must exceed lower " + describe(lower) + " by at least 1e-50 in x and y");
   }
   Points corners(4, 2);
   corners << lower.x(), lower.y(), upper.x(), lower.y(), upper.x(), upper.y(), lower.x(), upper.y();
@@ -101,6 +102,9 @@ Container stadium(const Vec2& centre, double radius, double length) {
   check_length("stadium", "radius", radius);
   check_length("stadium", "length", length, " (0 is a circle: use circular_table)");
   const Vec2 half(0.5 * length, 0.0);
+  if (!bounded(centre + half) || !bounded(centre - half)) {
+    refuse(describe("stadium: the half circles' centres, centre ", centre, " +- length / 2, must be at most 1e50 in magnitude, got length ", length));
+  }
   if (!((centre + half - (centre - half)).squaredNorm() > 0)) refuse(describe("stadium: length ", length, " is too small for the centre ", describe(centre)));
   const WallShape right = checked_arc("stadium", centre + half, radius, -M_PI / 2, M_PI / 2);
   const WallShape left = checked_arc("stadium", centre - half, radius, M_PI / 2, 3 * M_PI / 2);
@@ -114,8 +118,11 @@ Container sinai_billiard(const Vec2& lower, const Vec2& upper, double obstacle_r
   check_point("sinai_billiard", "lower", lower);
   check_point("sinai_billiard", "upper", upper);
   const Vec2 size = upper - lower;
-  if (!(size.x() > 0 && size.y() > 0)) refuse("sinai_billiard: upper " + describe(upper) + " must exceed lower " + describe(lower) + " in x and y");
-  if (!(obstacle_radius > 0) || !(2 * obstacle_radius < size.minCoeff())) {
+  if (!(size.x() >= limits::kSmallest && size.y() >= limits::kSmallest)) {
+    refuse("sinai_billiard: upper " + describe(upper) + " must exceed lower " + describe(lower) + " by at least 1e-50 in x and y");
+  }
+  check_length("sinai_billiard", "obstacle_radius", obstacle_radius);
+  if (!(2 * obstacle_radius < size.minCoeff())) {
     refuse(describe("sinai_billiard: obstacle_radius must be positive and below half the box's smaller side ", 0.5 * size.minCoeff(), ", got ", obstacle_radius));
   }
   Container sinai = box(lower, upper);
