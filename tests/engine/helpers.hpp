@@ -53,6 +53,14 @@ inline void add_all(billiard::Simulation& sim, const RandomDiscs& d, double mass
   }
 }
 
+// Settings with this gravity and restitution, everything else at its default.
+inline billiard::Settings physics(const Vec2& gravity, const billiard::Restitution& restitution = {}) {
+  billiard::Settings settings;
+  settings.gravity = gravity;
+  settings.restitution = restitution;
+  return settings;
+}
+
 inline billiard::Disc make_disc(const Vec2& position, const Vec2& velocity, double radius = 1.0, double mass = 1.0) {
   billiard::Disc disc;
   disc.position = position;

@@ -180,12 +180,7 @@ TEST(ArcTime, UnderGravityAgreesWithADirectNumericSearch) {
 namespace {
 
 using engine_test::make_disc;
-
-billiard::Settings with_gravity(const Vec2& g) {
-  billiard::Settings settings;
-  settings.gravity = g;
-  return settings;
-}
+using engine_test::physics;
 
 // The first event of a one-disc simulation.
 billiard::EventRecord first_event(billiard::Simulation& sim) {
@@ -275,7 +270,7 @@ TEST(ArcWall, DiscsInsideAFreeRingStayInsideItUnderGravity) {
   // A whole free circle of radius 5 at (3, 2) inside a box: discs placed inside it stay there.
   billiard::Container container = billiard::box(Vec2(-10, -10), Vec2(20, 20));
   container.add_arc(Vec2(3, 2), 5, 1, 1 + 2 * kPi);
-  billiard::Simulation sim(container, with_gravity(Vec2(0.1, -1)));
+  billiard::Simulation sim(container, physics(Vec2(0.1, -1)));
   for (int k = 0; k < 6; ++k) sim.add_disc(make_disc(Vec2(3 + 1.2 * (k - 2.5), 2 + 0.3 * k), Vec2(std::cos(k), std::sin(k)), 0.4));
   const double energy = sim.kinetic_energy() + sim.potential_energy();
   sim.advance(20000);
@@ -317,14 +312,14 @@ TEST(CurvedContainer, StressStadiumUnderGravityKeepsEnergyOverAMillionCollisions
   // (kinetic plus potential) changes only by rounding: about 1e-16 relative per collision as a
   // random walk, larger under gravity because positions enter the potential energy (the gravity
   // tests allow 1e-10 over 2e4 collisions); over 1e6 collisions we allow 1e-9.
-  billiard::Simulation sim(billiard::stadium(Vec2(0, 0), 10, 10), with_gravity(Vec2(0.2, -1)));
+  billiard::Simulation sim(billiard::stadium(Vec2(0, 0), 10, 10), physics(Vec2(0.2, -1)));
   sim.add_random_discs(100, 0.4, 1.0, 5.0, 31);
   EXPECT_LT(long_run(sim, 1000000, 5000), 1e-9);
 }
 
 TEST(CurvedContainer, StadiumUnderGravityKeepsEnergy) {
   // The stress test above, shorter (1e5 collisions, a second): the same bound.
-  billiard::Simulation sim(billiard::stadium(Vec2(0, 0), 10, 10), with_gravity(Vec2(0.2, -1)));
+  billiard::Simulation sim(billiard::stadium(Vec2(0, 0), 10, 10), physics(Vec2(0.2, -1)));
   sim.add_random_discs(100, 0.4, 1.0, 5.0, 35);
   EXPECT_LT(long_run(sim, 100000, 5000), 1e-9);
 }
@@ -521,7 +516,7 @@ TEST(ArcWall, FreeArcsUnderGravityWithDiscsPassingTheirGaps) {
   billiard::Container container = billiard::box(Vec2(-15, -15), Vec2(15, 15));
   const int cup = container.add_arc(Vec2(0, -4), 6, kPi, 2 * kPi);
   const int dome = container.add_arc(Vec2(0, 8), 4, 0, kPi);
-  billiard::Simulation sim(container, with_gravity(Vec2(0.1, -1)));
+  billiard::Simulation sim(container, physics(Vec2(0.1, -1)));
   sim.add_random_discs(40, 0.5, 1.0, 4.0, 36);
   const double energy = sim.kinetic_energy() + sim.potential_energy();
   sim.set_validate_every_event(true);

@@ -8,6 +8,8 @@
 // Checksum: FNV-1a, 64 bits, over each record's fields in order.
 #include "billiard/engine/simulation.hpp"
 
+#include "helpers.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -71,19 +73,6 @@ billiard::Points hexagon(double r) {
   return vertices;
 }
 
-billiard::Settings with_gravity(const Vec2& g, double restitution = 1.0) {
-  billiard::Settings settings;
-  settings.gravity = g;
-  settings.restitution.normal = restitution;
-  return settings;
-}
-
-billiard::Settings rough() {
-  billiard::Settings settings;
-  settings.restitution = {1.0, 1.0};
-  return settings;
-}
-
 const std::vector<FixedRun>& runs() {
   using billiard::Simulation;
   static const std::vector<FixedRun> all = {
@@ -93,10 +82,10 @@ const std::vector<FixedRun>& runs() {
       {"polygon", 0x3c03490c46b33bc2ULL, [] { return Simulation(billiard::polygon(hexagon(10))); }, 40, 0.4},
       {"stadium", 0xc1adb2799600ea83ULL, [] { return Simulation(billiard::stadium(Vec2(0, 0), 5, 8)); }, 30, 0.3},
       {"gravity", 0x5ec6aad2301f945fULL,
-       [] { return Simulation(billiard::box(Vec2(0, 0), Vec2(20, 20)), with_gravity(Vec2(0.3, -1))); }, 40, 0.5},
-      {"rough", 0x8735fdc27772b0a4ULL, [] { return Simulation(billiard::box(Vec2(0, 0), Vec2(20, 20)), rough()); }, 40, 0.5},
+       [] { return Simulation(billiard::box(Vec2(0, 0), Vec2(20, 20)), engine_test::physics(Vec2(0.3, -1))); }, 40, 0.5},
+      {"rough", 0x8735fdc27772b0a4ULL, [] { return Simulation(billiard::box(Vec2(0, 0), Vec2(20, 20)), engine_test::physics(Vec2::Zero(), {1.0, 1.0})); }, 40, 0.5},
       {"granular", 0x8d83cec13daf5875ULL,
-       [] { return Simulation(billiard::box(Vec2(0, 0), Vec2(20, 20)), with_gravity(Vec2(0, -1), 0.9)); }, 60, 0.5},
+       [] { return Simulation(billiard::box(Vec2(0, 0), Vec2(20, 20)), engine_test::physics(Vec2(0, -1), {0.9, -1})); }, 60, 0.5},
   };
   return all;
 }

@@ -11,13 +11,9 @@
 
 using billiard::Vec2;
 using engine_test::make_disc;
+using engine_test::physics;
 
 namespace {
-billiard::Settings with_gravity(const Vec2& g) {
-  billiard::Settings settings;
-  settings.gravity = g;
-  return settings;
-}
 }  // namespace
 
 TEST(Gravity, FreeFallOntoAFloorBouncesEveryTwoVOverG) {
@@ -29,7 +25,7 @@ TEST(Gravity, FreeFallOntoAFloorBouncesEveryTwoVOverG) {
   // accumulates over the bounces.
   const double h = 20 + billiard::Simulation::kFixedContactSlack;
   const double v = std::sqrt(2 * 10 * h);
-  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(100, 100)), with_gravity(Vec2(0, -10)));
+  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(100, 100)), physics(Vec2(0, -10)));
   sim.add_disc(make_disc(Vec2(50, 21), Vec2(0, 0)));
   sim.enable_event_log(true);
   sim.advance(5);
@@ -46,7 +42,7 @@ TEST(Gravity, DiscDroppedInTheCircularTable) {
   // at t = 6 and lands again at t = 9: landings every 6. With the fixed contact slack the reach is
   // 9 + 1e-10: t = sqrt(reach), every 2 sqrt(reach).
   const double reach = 9 + billiard::Simulation::kFixedContactSlack;
-  billiard::Simulation sim(billiard::circular_table(10), with_gravity(Vec2(0, -2)));
+  billiard::Simulation sim(billiard::circular_table(10), physics(Vec2(0, -2)));
   sim.add_disc(make_disc(Vec2(0, 0), Vec2(0, 0)));
   sim.enable_event_log(true);
   sim.advance(3);
@@ -60,7 +56,7 @@ TEST(Gravity, DiscDroppedInTheCircularTable) {
 TEST(Gravity, SidewaysGravityAnyDirection) {
   // Gravity along +x of 8: from rest at x = 5 in the box [0, 20]^2 (radius 1), the wall x = 20 is
   // reached when 14 = 4 t^2: t = sqrt(3.5) (14 + 1e-10 with the fixed contact slack).
-  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), with_gravity(Vec2(8, 0)));
+  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), physics(Vec2(8, 0)));
   sim.add_disc(make_disc(Vec2(5, 10), Vec2(0, 0)));
   sim.enable_event_log(true);
   sim.advance(1);
@@ -91,12 +87,12 @@ void random_gravity_run(billiard::Simulation& sim, int n, std::int64_t events, s
 }  // namespace
 
 TEST(Gravity, RandomRunInABoxKeepsEnergyAndNeverOverlaps) {
-  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), with_gravity(Vec2(0.3, -1)));
+  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), physics(Vec2(0.3, -1)));
   random_gravity_run(sim, 40, 20000, 21, Vec2(0, 0), Vec2(20, 20), false, 0);
 }
 
 TEST(Gravity, RandomRunInTheTableKeepsEnergyAndNeverOverlaps) {
-  billiard::Simulation sim(billiard::circular_table(12), with_gravity(Vec2(0, -1)));
+  billiard::Simulation sim(billiard::circular_table(12), physics(Vec2(0, -1)));
   random_gravity_run(sim, 40, 20000, 22, Vec2(-12, -12), Vec2(12, 12), true, 12);
 }
 
@@ -105,7 +101,7 @@ TEST(Gravity, RandomRunWithPolygonCornersAndFreeEnds) {
   billiard::Container funnel = billiard::box(Vec2(0, 0), Vec2(30, 30));
   funnel.add_segment(Vec2(3, 15), Vec2(13, 10));
   funnel.add_segment(Vec2(27, 15), Vec2(17, 10));
-  billiard::Simulation sim(funnel, with_gravity(Vec2(0, -1)));
+  billiard::Simulation sim(funnel, physics(Vec2(0, -1)));
   std::mt19937_64 rng(23);
   const auto discs = engine_test::random_discs(rng, 30, 0.5, 1.0, Vec2(0, 0), Vec2(30, 30), [&](const Vec2& p, double a) {
     return p.x() >= a && p.x() <= 30 - a && p.y() >= a && p.y() <= 30 - a &&

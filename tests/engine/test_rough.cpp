@@ -10,14 +10,9 @@
 
 using billiard::Vec2;
 using engine_test::make_disc;
+using engine_test::physics;
 
 namespace {
-billiard::Settings with_restitution(double normal, double tangential = -1.0) {
-  billiard::Settings settings;
-  settings.restitution = {normal, tangential};
-  return settings;
-}
-
 billiard::Settings exchanging() {
   billiard::Settings settings;
   settings.exchange_velocities = true;
@@ -54,7 +49,7 @@ TEST(Rough, UnequalRadiiMeetAtTheSumOfRadii) {
 TEST(Rough, InelasticNormalRestitutionLosesTheExpectedEnergy) {
   // Equal masses, e_n = 1/2, head-on at +2 against rest: v1 = (1 - e)/2 * 2 = 0.5,
   // v2 = (1 + e)/2 * 2 = 1.5; kinetic energy 2 -> (0.25 + 2.25) / 2 = 1.25.
-  billiard::Simulation sim(billiard::box(Vec2(-20, -20), Vec2(20, 20)), with_restitution(0.5));
+  billiard::Simulation sim(billiard::box(Vec2(-20, -20), Vec2(20, 20)), physics(Vec2::Zero(), {0.5, -1.0}));
   sim.add_disc(make_disc(Vec2(-5, 0), Vec2(2, 0)));
   sim.add_disc(make_disc(Vec2(5, 0), Vec2(0, 0)));
   sim.advance(1);
@@ -67,7 +62,7 @@ TEST(Rough, SpinningDiscKicksItselfSidewaysOffAWall) {
   // with sigma = (0, -1): tangential 2 along +x... so g_t = (2, 0); the impulse
   // -(1 + 1) [1 + 2]^-1 g_t = (-4/3, 0) gives vx = -4/3 and spin 2 + 2 (sigma x Q) = 2 - 8/3 = -2/3.
   // The contact point's tangential velocity -4/3 + (-2/3) = -2 is reversed; energy is kept.
-  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), with_restitution(1.0, 1.0));
+  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), physics(Vec2::Zero(), {1.0, 1.0}));
   billiard::Disc d = make_disc(Vec2(10, 5), Vec2(0, -1));
   d.spin = 2;
   sim.add_disc(d);
@@ -85,7 +80,7 @@ TEST(Rough, PerfectlyRoughMixedDiscsConserveEnergy) {
   // table wall rough too): translational + rotational energy is conserved (1e-12 relative over
   // 50 000 collisions), validate() after every event.
   std::mt19937_64 rng(31);
-  billiard::Simulation sim(billiard::circular_table(15), with_restitution(1.0, 1.0));
+  billiard::Simulation sim(billiard::circular_table(15), physics(Vec2::Zero(), {1.0, 1.0}));
   const auto discs = engine_test::random_discs(rng, 40, 0.5, 1.5, Vec2(-15, -15), Vec2(15, 15),
                                                [](const Vec2& p, double a) { return p.norm() <= 15 - a; });
   std::normal_distribution<double> normal;
@@ -105,7 +100,7 @@ TEST(Rough, PerfectlyRoughMixedDiscsConserveEnergy) {
 TEST(Rough, CustomInertia) {
   // A ring (I = m a^2) instead of a uniform disc: effective tangential mass [1 + 1]^-1 = 1/2,
   // impulse -(2)(1/2)(2, 0) = (-2, 0): vx = -2, spin 2 + (1)(1)(-2) = 0.
-  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), with_restitution(1.0, 1.0));
+  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), physics(Vec2::Zero(), {1.0, 1.0}));
   billiard::Disc d = make_disc(Vec2(10, 5), Vec2(0, -1));
   d.spin = 2;
   d.inertia = 1.0;
