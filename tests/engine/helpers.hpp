@@ -53,6 +53,19 @@ inline void add_all(billiard::Simulation& sim, const RandomDiscs& d, double mass
   }
 }
 
+// Whether two lists of walls are the same, field by field (a refused add_ call must leave a
+// container's walls as they were).
+inline bool same_walls(const std::vector<billiard::WallShape>& x, const std::vector<billiard::WallShape>& y) {
+  if (x.size() != y.size()) return false;
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    if (x[k].kind != y[k].kind || x[k].a != y[k].a || x[k].b != y[k].b || x[k].radius != y[k].radius ||
+        x[k].start_angle != y[k].start_angle || x[k].sweep != y[k].sweep) {
+      return false;
+    }
+  }
+  return true;
+}
+
 // Settings with this gravity and restitution, everything else at its default.
 inline billiard::Settings physics(const Vec2& gravity, const billiard::Restitution& restitution = {}) {
   billiard::Settings settings;

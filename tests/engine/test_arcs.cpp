@@ -417,16 +417,7 @@ std::string refusal(Call call) {
   return "no exception";
 }
 
-bool same_walls(const std::vector<billiard::WallShape>& x, const std::vector<billiard::WallShape>& y) {
-  if (x.size() != y.size()) return false;
-  for (std::size_t k = 0; k < x.size(); ++k) {
-    if (x[k].kind != y[k].kind || x[k].a != y[k].a || x[k].b != y[k].b || x[k].radius != y[k].radius ||
-        x[k].start_angle != y[k].start_angle || x[k].sweep != y[k].sweep) {
-      return false;
-    }
-  }
-  return true;
-}
+using engine_test::same_walls;
 
 // Runs `call` (a shape function), expects std::invalid_argument whose message contains `piece`.
 template <class Call>

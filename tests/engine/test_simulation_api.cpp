@@ -131,16 +131,7 @@ TEST(Api, BadSettingsFieldsAreRefusedByTheSimulation) {
 }
 
 namespace {
-bool same_walls(const std::vector<billiard::WallShape>& x, const std::vector<billiard::WallShape>& y) {
-  if (x.size() != y.size()) return false;
-  for (std::size_t k = 0; k < x.size(); ++k) {
-    if (x[k].kind != y[k].kind || x[k].a != y[k].a || x[k].b != y[k].b || x[k].radius != y[k].radius ||
-        x[k].start_angle != y[k].start_angle || x[k].sweep != y[k].sweep) {
-      return false;
-    }
-  }
-  return true;
-}
+using engine_test::same_walls;
 
 // Runs `call`, an add_ call on `container`: refused as expect_refused says, and the container
 // unchanged.
