@@ -96,11 +96,10 @@ class Simulation {
   // Adds many discs of one radius and mass (positions and velocities N by 2); returns the index
   // of the first. All or nothing: one bad disc refuses the whole call.
   int add_discs(const Points& positions, const Points& velocities, double radius, double mass = 1.0);
-  // Adds n discs of one radius and mass at random places in the container (a table, boxes or
-  // polygons, or a periodic box must be set), clear of the walls and of every disc: random
-  // sequential addition, or, when that cannot place them all within its budget (dense systems,
-  // area fraction above ~0.4), random sites of a triangular lattice, which melts within a few
-  // collisions per disc. Velocities: Gaussian, with the total momentum of the new discs removed
+  // Adds n discs of one radius and mass at random places in the container, clear of the walls
+  // and of every disc: random sequential addition, or, when that cannot place them all within
+  // its budget (dense systems, area fraction above ~0.4), random sites of a triangular lattice,
+  // which melts within a few collisions per disc. Velocities: Gaussian, with the total momentum of the new discs removed
   // (n >= 2) and rescaled so that their kinetic energy is exactly n kT (2D: kT per disc).
   // Returns the index of the first. All or nothing; refused (std::invalid_argument) if they
   // cannot fit.
