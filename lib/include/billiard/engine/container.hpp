@@ -9,7 +9,8 @@
 // A container is a value, made by one of the functions below for its shape and then extended.
 // Each function and each add_ call checks its arguments when it is called and throws
 // std::invalid_argument naming the argument and its value; a refused add_ call leaves the
-// container as it was. Numbers must be finite and at most 1e50 in magnitude (limits.hpp).
+// container as it was. Numbers must be finite and at most 1e50 in magnitude, and lengths (radii,
+// sides) at least 1e-50, as a disc's radius (limits.hpp).
 //
 // Its geometry is asked the same questions by the simulation's checks, the event loop,
 // validation and replay: where a periodic position wraps to, the nearest periodic image, whether
@@ -74,7 +75,7 @@ class Container {
   // A disc obstacle: a whole circle that discs stay outside of.
   void add_obstacle(const Vec2& centre, double radius);
   // An obstacle of any outlined shape (a box, polygon, stadium, mushroom or union of circles,
-  // made by the functions above): discs stay outside of it.
+  // made by the functions above, without walls of its own added): discs stay outside of it.
   void add_obstacle(const Container& shape);
 
   // ---- What it is ----
