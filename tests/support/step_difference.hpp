@@ -44,8 +44,9 @@ inline StepDifference step_difference(double time, const Coordinates& c, const V
   for (Eigen::Index i = 0; i < c.rows(); ++i) {
     const double position_error = (c.row(i) - expected_c.row(i)).norm();
     const double velocity_error = (v.row(i) - expected_v.row(i)).norm();
-    const auto larger = [](double kept, double next) { return std::isnan(kept) || !(next <= kept) ? (std::isnan(kept) ? kept : next) : kept; };
-    difference.position_error = larger(difference.position_error, position_error);  // (nan, once seen, stays)
+    // The larger of the two; a nan, once seen, stays.
+    const auto larger = [](double kept, double next) { return std::isnan(kept) || next <= kept ? kept : next; };
+    difference.position_error = larger(difference.position_error, position_error);
     difference.velocity_error = larger(difference.velocity_error, velocity_error);
     if (difference.what != StepDifference::What::None) continue;
     if (!(position_error <= tolerance.position)) {

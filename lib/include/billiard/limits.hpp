@@ -18,6 +18,8 @@ inline constexpr const char* kMustBeInScale = "must be positive and finite, in [
 // Whether x obeys the rule; both are false for nan and the infinities.
 inline bool bounded(double x) { return std::abs(x) <= kLargest; }
 inline bool in_scale(double x) { return x >= kSmallest && x <= kLargest; }
+// A point or a velocity: both coordinates bounded.
+inline bool bounded(double x, double y) { return bounded(x) && bounded(y); }
 
 // Positions are computed to about 1e-16 of the coordinates: a disc smaller than this fraction of
 // the coordinates it moves among would overlap discs and cross walls by rounding alone.

@@ -23,7 +23,7 @@ void positive_finite(double value, std::string_view name) {
   if (!limits::in_scale(value)) fail(name, " = ", value, ": ", limits::kMustBeInScale);
 }
 
-bool bounded(double x, double y) { return limits::bounded(x) && limits::bounded(y); }
+using limits::bounded;
 
 }  // namespace
 

@@ -14,7 +14,7 @@ namespace {
 
 using limits::bounded;
 const char* const kBounded = limits::kMustBeBounded;
-bool bounded(const Vec2& v) { return bounded(v.x()) && bounded(v.y()); }
+bool bounded(const Vec2& v) { return bounded(v.x(), v.y()); }
 
 [[noreturn]] void refuse(const std::string& message) { throw std::invalid_argument(message); }
 
@@ -25,7 +25,7 @@ void check_length(const std::string& call, const char* name, double value, const
 }
 
 void check_point(const std::string& call, const char* name, const Vec2& p) {
-  if (!bounded(p)) refuse(describe(call, ": ", name, " ", kBounded, ", got ", describe(p)));
+  if (!bounded(p)) refuse(describe(call, ": ", name, " ", kBounded, ", got ", p));
 }
 
 // An arc from the user's numbers: centre and radius bounded, angles finite and bounded,

@@ -23,7 +23,7 @@ using limits::kRelativeRadius;
 using limits::kSmallest;
 const char* const kBounded = limits::kMustBeBounded;
 const char* const kScale = limits::kMustBeInScale;
-bool bounded(const Vec2& v) { return bounded(v.x()) && bounded(v.y()); }
+bool bounded(const Vec2& v) { return bounded(v.x(), v.y()); }
 
 void require_setup(const Engine& e, const char* call) {
   if (e.prepared) {
@@ -264,8 +264,9 @@ void Simulation::set_restitution(double normal, double tangential) {
 }
 
 void Simulation::set_exchange_velocities(bool on) {
-  engine_of(engine_).exchange_velocities = on;
-  engine_of(engine_).choose_rules();
+  Engine& e = engine_of(engine_);
+  e.exchange_velocities = on;
+  e.choose_rules();
 }
 
 bool Simulation::exchange_velocities() const { return engine_of(engine_).exchange_velocities; }
@@ -279,20 +280,23 @@ void Engine::choose_rules() {
 
 void Simulation::set_contact_duration(std::optional<double> duration) {
   check_granular("set_contact_duration: duration", duration);
-  engine_of(engine_).contact_duration_setting = duration;
-  if (engine_of(engine_).prepared) engine_of(engine_).choose_granular_model();
+  Engine& e = engine_of(engine_);
+  e.contact_duration_setting = duration;
+  if (e.prepared) e.choose_granular_model();
 }
 
 void Simulation::set_elastic_impact_speed(std::optional<double> speed) {
   check_granular("set_elastic_impact_speed: speed", speed);
-  engine_of(engine_).elastic_impact_speed_setting = speed;
-  if (engine_of(engine_).prepared) engine_of(engine_).choose_granular_model();
+  Engine& e = engine_of(engine_);
+  e.elastic_impact_speed_setting = speed;
+  if (e.prepared) e.choose_granular_model();
 }
 
 void Simulation::set_sleep_speed(std::optional<double> speed) {
   check_granular("set_sleep_speed: speed", speed);
-  engine_of(engine_).sleep_speed_setting = speed;
-  if (engine_of(engine_).prepared) engine_of(engine_).choose_speeds();
+  Engine& e = engine_of(engine_);
+  e.sleep_speed_setting = speed;
+  if (e.prepared) e.choose_speeds();
 }
 
 // The automatic values are scaled by the discs (mean radius, rms speed now) and gravity.

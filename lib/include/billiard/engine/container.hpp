@@ -84,7 +84,7 @@ class Container {
   bool has_table() const { return has_table_; }
   double table_radius() const { return table_radius_; }  // 0 without a table
   bool periodic() const { return periodic_; }
-  Vec2 period() const { return period_; }  // width and height of the periodic box; (0, 0) if none
+  const Vec2& period() const { return period_; }  // width and height of the periodic box; (0, 0) if none
 
   // ---- Geometry ----
   // p wrapped into the periodic box (p itself without one).
