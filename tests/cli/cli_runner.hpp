@@ -66,6 +66,7 @@ struct Limits {
   double seconds = 60;          // killed (SIGKILL) after this long: a hang is reported, not waited for
   double interrupt_after = -1;  // if >= 0, send `interrupt` this many seconds after the start
   int interrupt = SIGINT;
+  void (*in_child)() = nullptr;  // if set, called in the new process just before the program starts
 };
 
 // Runs `exe arguments...` with `folder` as the current folder; stdout and stderr go to
@@ -88,6 +89,7 @@ inline Run run_program(const std::string& exe, const std::vector<std::string>& a
     if (out < 0 || err < 0 || ::chdir(folder_name.c_str()) != 0 || ::dup2(out, 1) < 0 || ::dup2(err, 2) < 0) _exit(127);
     ::close(out);
     ::close(err);
+    if (limits.in_child != nullptr) limits.in_child();
     ::execv(exe.c_str(), argv.data());
     _exit(127);
   }

@@ -6,7 +6,8 @@
 #pragma once
 
 #include "cli/cli_runner.hpp"
-#include "support/program_under_test.hpp"
+#include "support/expected_program.hpp"
+#include "support/student_code.hpp"
 #include "support/student_messages.hpp"
 
 #include <gtest/gtest.h>
@@ -105,10 +106,10 @@ inline void expect_same_output(const std::string& name, const std::string& input
   const cli::Run expected = cli::run_program(billiard::testing::expected_program(), arguments, folder, folder / "expected");
   ASSERT_EQ(expected.status, 0) << "the project's particles command failed on this test's file: " << expected.err;
 
+  // The program runs in a folder of its own that holds only the input file.
   cli::Limits limits;
   limits.seconds = seconds_per_run();
-  const cli::Run run = cli::run_program(billiard::testing::program_under_test(), arguments, folder, folder / "yours",
-                                        limits);
+  const cli::Run run = billiard::testing::run_student_program(arguments, {{file.filename().string(), input}}, limits);
   // The untouched stub says so and exits: that is the "not implemented yet" failure of every test.
   const std::string first_error = run.err.substr(0, run.err.find('\n'));
   if (run.status > 0 && first_error.find("is not implemented yet") != std::string::npos) {

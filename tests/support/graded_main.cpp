@@ -2,11 +2,6 @@
 //
 //   --list-graded           print each test's points and visibility as one JSON object per
 //                           line, for the grader; fail if some test carries no points.
-//   --graded-result=PATH    after the tests, write "<token> passed" or "<token> failed" to
-//                           PATH, where <token> is the secret the grader passes in the
-//                           environment variable BILLIARD_GRADER_TOKEN. The variable is wiped
-//                           before any test runs, so code under test cannot forge the line; a
-//                           test that exits early, crashes or hangs writes nothing (no points).
 //   --expect-not-implemented
 //                           check the untouched stubs: succeed only if every test failed, and
 //                           each with the stub's "not implemented yet" error (so no test can
@@ -14,22 +9,31 @@
 //   --brief                 print only what failed, each failure as its message: a task that
 //                           is not written yet gives one line per test (CTest passes this, so
 //                           that a first run on the stubs reads as a list, not as pages).
-//   --serve=FD              the grader's test server: read one test per line on standard input,
-//                           "NAME FOLDER TOKEN CPU_SECONDS [VARIABLE=VALUE...]", and run each in
-//                           a process of its own, forked from this one before any test ran (so
-//                           it starts as a new process of the program would, at a fraction of
-//                           the cost), in its own process group, in FOLDER (relative to this
-//                           program's working folder; also its HOME and TMPDIR), with those
-//                           variables set, at most CPU_SECONDS (rounded up) of computing and its
-//                           output on this program's; write "<token> passed" or "<token>
-//                           failed" to FOLDER/result.txt as --graded-result does, and report on
-//                           file descriptor FD "started PID" and then "ended WAIT_STATUS
-//                           CPU_MICROSECONDS" for each. Ends at the end of the input.
+//   --serve=FD              the grader's test server (tests/grader/grade.py). FD is a socket of
+//                           datagrams (SOCK_SEQPACKET) to the grader, one message each way:
+//                             grader: "NAME FOLDER CPU_SECONDS [VARIABLE=VALUE...]", with the
+//                                     test's channel to its worker attached (SCM_RIGHTS)
+//                             server: "ready" once, then for each test "started PID", the
+//                                     test's own "verdict passed" or "verdict failed", and
+//                                     "ended WAIT_STATUS CPU_MICROSECONDS"
+//                           Each test runs in a process of its own, forked from this one before
+//                           any test ran (so it starts as a new process of the program would, at a
+//                           fraction of the cost), in its own process group, in FOLDER (relative
+//                           to this program's working folder; also its HOME and TMPDIR), with
+//                           those variables set, at most CPU_SECONDS (rounded up) of computing,
+//                           its output on this program's, and the course's functions called in
+//                           its worker (support/student_code.hpp). Ends when the grader closes FD.
+//
+// Under the grader this program is the judge: it holds no submitted code (the course's functions
+// are proxies to the worker), so its verdicts cannot be forged from there.
 #include "support/failure_pictures.hpp"
 #include "support/graded.hpp"
+#include "support/student_code.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
+#include <sys/socket.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <fcntl.h>
@@ -145,37 +149,42 @@ bool list_graded() {
   return ok;
 }
 
-// Reads and wipes the grader's secret, so that code under test cannot find it in the
-// environment.
-std::string take_grader_token() {
-  char* value = std::getenv("BILLIARD_GRADER_TOKEN");
-  if (value == nullptr) return "";
-  std::string token = value;
-  std::memset(value, 0, std::strlen(value));
-  unsetenv("BILLIARD_GRADER_TOKEN");
-  return token;
-}
-
-// Writes a whole line to a file descriptor (a pipe to the grader).
-void report(int fd, const std::string& line) {
-  const std::string text = line + "\n";
-  std::size_t written = 0;
-  while (written < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) std::exit(3);  // the grader has gone
-    written += static_cast<std::size_t>(n);
+// Sends one message to the grader.
+void report(int grader, const std::string& message) {
+  while (::send(grader, message.data(), message.size(), MSG_NOSIGNAL) < 0) {
+    if (errno != EINTR) std::_Exit(3);  // the grader has gone
   }
 }
 
-// Runs the one test `name` in this (forked) process and ends it, as main() below would with
-// --gtest_filter=NAME --graded-result=RESULT_FILE.
-[[noreturn]] void run_one_test(std::istringstream& words, const std::string& name, int reports) {
-  std::string work, token;
+// Receives one message from the grader and the descriptor attached to it (-1 if none); false
+// when the grader has closed the socket.
+bool receive(int grader, std::string& message, int& attached) {
+  char text[8192];
+  alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int))];
+  iovec part{text, sizeof text};
+  msghdr header{};
+  header.msg_iov = &part;
+  header.msg_iovlen = 1;
+  header.msg_control = control;
+  header.msg_controllen = sizeof control;
+  ssize_t size;
+  while ((size = ::recvmsg(grader, &header, MSG_CMSG_CLOEXEC)) < 0 && errno == EINTR) {
+  }
+  if (size <= 0) return false;
+  message.assign(text, static_cast<std::size_t>(size));
+  attached = -1;
+  for (cmsghdr* item = CMSG_FIRSTHDR(&header); item != nullptr; item = CMSG_NXTHDR(&header, item)) {
+    if (item->cmsg_level == SOL_SOCKET && item->cmsg_type == SCM_RIGHTS) std::memcpy(&attached, CMSG_DATA(item), sizeof attached);
+  }
+  return true;
+}
+
+// Runs the one test `name` in this (forked) process and ends it, reporting its verdict.
+[[noreturn]] void run_one_test(std::istringstream& words, const std::string& name, int grader, int worker) {
+  std::string work;
   double cpu_seconds = 0;
-  words >> work >> token >> cpu_seconds;
+  words >> work >> cpu_seconds;
   ::setpgid(0, 0);  // a group of its own: the grader stops the test and what it started at once
-  ::close(reports);
   const int nothing = ::open("/dev/null", O_RDONLY);
   ::dup2(nothing, 0);
   ::close(nothing);
@@ -193,30 +202,42 @@ void report(int fd, const std::string& line) {
     ::setenv("TMPDIR", here, 1);
     std::free(here);
   }
+  if (worker >= 0) billiard::testing::use_worker(worker);
   GTEST_FLAG_SET(filter, name);
   const int status = RUN_ALL_TESTS();
   const auto* unit = ::testing::UnitTest::GetInstance();
   const bool passed = status == 0 && unit->Passed() && unit->test_to_run_count() > 0;
-  std::ofstream("result.txt") << token << (passed ? " passed\n" : " failed\n");
-  std::exit(status);
+  std::cout.flush();
+  std::fflush(nullptr);
+  report(grader, passed ? "verdict passed" : "verdict failed");
+  std::_Exit(status);  // no destructors or exit handlers: the verdict is said
 }
 
 // The test server of --serve=FD (see the top of this file).
-int serve(int reports) {
+int serve(int grader) {
+  // Not traceable, nor its memory readable, by processes of the same user (the workers, where
+  // they share the grader's user).
+  ::prctl(PR_SET_DUMPABLE, 0, 0, 0, 0);
   std::cout.flush();
   std::fflush(nullptr);  // what the program printed so far must not be repeated by each test
-  report(reports, "ready");
-  for (std::string line; std::getline(std::cin, line);) {
+  report(grader, "ready");
+  std::string line;
+  int worker = -1;
+  while (receive(grader, line, worker)) {
     std::istringstream words(line);
     std::string name;
-    if (!(words >> name)) continue;
-    const pid_t pid = ::fork();
-    if (pid < 0) {
-      report(reports, "ended -1 0");
+    if (!(words >> name)) {
+      if (worker >= 0) ::close(worker);
       continue;
     }
-    if (pid == 0) run_one_test(words, name, reports);
-    report(reports, "started " + std::to_string(pid));
+    const pid_t pid = ::fork();
+    if (pid == 0) run_one_test(words, name, grader, worker);
+    if (worker >= 0) ::close(worker);
+    if (pid < 0) {
+      report(grader, "ended -1 0");
+      continue;
+    }
+    report(grader, "started " + std::to_string(pid));
     int status = 0;
     rusage usage{};
     while (::wait4(pid, &status, 0, &usage) < 0 && errno == EINTR) {
@@ -224,7 +245,7 @@ int serve(int reports) {
     const long long microseconds =
         (static_cast<long long>(usage.ru_utime.tv_sec) + usage.ru_stime.tv_sec) * 1000000LL + usage.ru_utime.tv_usec +
         usage.ru_stime.tv_usec;
-    report(reports, "ended " + std::to_string(status) + " " + std::to_string(microseconds));
+    report(grader, "ended " + std::to_string(status) + " " + std::to_string(microseconds));
   }
   return 0;
 }
@@ -232,17 +253,14 @@ int serve(int reports) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const std::string token = take_grader_token();
   ::testing::InitGoogleTest(&argc, argv);
   billiard::testing::install_picture_listener();
   bool expect_not_implemented = false, list = false;
-  std::string result_path;
   int server_reports = -1;
   for (int i = 1; i < argc; ++i) {
     const std::string argument = argv[i];
     if (argument == "--expect-not-implemented") expect_not_implemented = true;
     if (argument == "--list-graded") list = true;
-    if (argument.rfind("--graded-result=", 0) == 0) result_path = argument.substr(16);
     if (argument.rfind("--serve=", 0) == 0) server_reports = std::atoi(argument.c_str() + 8);
     if (argument == "--brief") {
       auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
@@ -259,11 +277,5 @@ int main(int argc, char** argv) {
     (void)ignored;
     return checker->report() ? 0 : 1;
   }
-  const int status = RUN_ALL_TESTS();
-  if (!result_path.empty()) {
-    const auto* unit = ::testing::UnitTest::GetInstance();
-    const bool passed = status == 0 && unit->Passed() && unit->test_to_run_count() > 0;
-    std::ofstream(result_path) << token << (passed ? " passed\n" : " failed\n");
-  }
-  return status;
+  return RUN_ALL_TESTS();
 }

@@ -13,9 +13,12 @@ class NotImplemented : public std::logic_error {
   // task_number: 1 to 6; function: e.g. "propagate"; file: e.g. "tasks/propagate.cpp".
   NotImplemented(int task_number, const std::string& function, const std::string& file);
   int task_number() const { return task_number_; }
+  const std::string& function() const { return function_; }
+  const std::string& file() const { return file_; }
 
  private:
   int task_number_;
+  std::string function_, file_;
 };
 
 }  // namespace billiard

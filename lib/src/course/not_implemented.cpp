@@ -9,6 +9,8 @@ NotImplemented::NotImplemented(int task_number, const std::string& function, con
                        ") is not implemented yet: write it in " + file +
                        ", then run its tests with: ./build.sh test -L " +
                        std::filesystem::path(file).stem().string()),
-      task_number_(task_number) {}
+      task_number_(task_number),
+      function_(function),
+      file_(file) {}
 
 }  // namespace billiard

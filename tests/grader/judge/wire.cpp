@@ -1,0 +1,223 @@
+#include "judge/wire.hpp"
+
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <sstream>
+
+namespace billiard::judge {
+
+Writer& Writer::raw(const void* data, std::size_t size) {
+  bytes_.append(static_cast<const char*>(data), size);
+  return *this;
+}
+
+Writer& Writer::operator<<(const std::string& text) {
+  *this << static_cast<std::int64_t>(text.size());
+  return raw(text.data(), text.size());
+}
+
+Writer& Writer::operator<<(const Eigen::Matrix<double, Eigen::Dynamic, 2>& rows) {
+  *this << static_cast<std::int64_t>(rows.rows());
+  return raw(rows.data(), sizeof(double) * static_cast<std::size_t>(rows.size()));
+}
+
+Writer& Writer::operator<<(const Vector& vector) { return *this << vector(0) << vector(1); }
+
+Writer& Writer::operator<<(const std::vector<Wall>& walls) {
+  *this << static_cast<std::int64_t>(walls.size());
+  for (const Wall& wall : walls) *this << wall.a << wall.b;
+  return *this;
+}
+
+Writer& Writer::operator<<(const Collision& collision) {
+  return *this << collision.time << static_cast<std::int32_t>(collision.circle)
+               << static_cast<std::int32_t>(collision.other);
+}
+
+// The generator's whole state, as the standard writes it (the same text reads back the same state).
+Writer& Writer::operator<<(const Rng& rng) {
+  std::ostringstream text;
+  text << rng;
+  return *this << text.str();
+}
+
+Writer& Writer::operator<<(const FileState& file) {
+  return *this << file.name << static_cast<std::uint8_t>(file.parent) << static_cast<std::uint8_t>(file.kind)
+               << file.content;
+}
+
+Writer& Writer::operator<<(const ProgramRun& run) {
+  *this << static_cast<std::int64_t>(run.arguments.size());
+  for (const auto& argument : run.arguments) *this << argument;
+  *this << static_cast<std::int64_t>(run.inputs.size());
+  for (const auto& [name, content] : run.inputs) *this << name << content;
+  return *this << run.seconds;
+}
+
+Writer& Writer::operator<<(const ProgramResult& result) {
+  return *this << static_cast<std::int32_t>(result.status) << static_cast<std::int32_t>(result.signal)
+               << result.timed_out << result.seconds << result.out << result.err;
+}
+
+Reader& Reader::raw(void* data, std::size_t size) {
+  if (bytes_.size() - at_ < size) throw ProtocolError("a message ended before its content did");
+  std::memcpy(data, bytes_.data() + at_, size);
+  at_ += size;
+  return *this;
+}
+
+std::size_t Reader::count(std::size_t limit, const char* what) {
+  const auto value = get<std::int64_t>();
+  if (value < 0 || static_cast<std::uint64_t>(value) > limit) {
+    throw ProtocolError(std::string("a message holds a ") + what + " of " + std::to_string(value) +
+                        " items, more than the grader takes");
+  }
+  return static_cast<std::size_t>(value);
+}
+
+Reader& Reader::operator>>(bool& value) {
+  value = get<std::uint8_t>() != 0;
+  return *this;
+}
+
+Reader& Reader::operator>>(Call& call) {
+  call = static_cast<Call>(get<std::uint8_t>());
+  return *this;
+}
+
+Reader& Reader::operator>>(Ending& ending) {
+  const auto value = get<std::uint8_t>();
+  if (value > static_cast<std::uint8_t>(Ending::not_an_exception)) throw ProtocolError("an unknown ending of a call");
+  ending = static_cast<Ending>(value);
+  return *this;
+}
+
+Reader& Reader::operator>>(std::string& text) {
+  const std::size_t size = count(kMaxMessageBytes, "text");
+  if (bytes_.size() - at_ < size) throw ProtocolError("a message ended before its content did");
+  text.assign(bytes_, at_, size);
+  at_ += size;
+  return *this;
+}
+
+Reader& Reader::operator>>(Eigen::Matrix<double, Eigen::Dynamic, 2>& rows) {
+  const std::size_t count_of_rows = count(static_cast<std::size_t>(kMaxRows), "array");
+  rows.resize(static_cast<Eigen::Index>(count_of_rows), 2);
+  return raw(rows.data(), sizeof(double) * 2 * count_of_rows);
+}
+
+Reader& Reader::operator>>(Vector& vector) { return *this >> vector(0) >> vector(1); }
+
+Reader& Reader::operator>>(std::vector<Wall>& walls) {
+  walls.resize(count(static_cast<std::size_t>(kMaxRows), "list of walls"));
+  for (Wall& wall : walls) *this >> wall.a >> wall.b;
+  return *this;
+}
+
+Reader& Reader::operator>>(Collision& collision) {
+  collision.time = get<double>();
+  collision.circle = get<std::int32_t>();
+  collision.other = get<std::int32_t>();
+  return *this;
+}
+
+Reader& Reader::operator>>(Rng& rng) {
+  std::istringstream text(get<std::string>());
+  Rng read;
+  if (!(text >> read)) throw ProtocolError("the state of a random number generator does not read back");
+  rng = read;
+  return *this;
+}
+
+Reader& Reader::operator>>(FileState& file) {
+  file.name = get<std::string>();
+  const auto parent = get<std::uint8_t>();
+  const auto kind = get<std::uint8_t>();
+  if (parent > 2 || kind > 2) throw ProtocolError("an unknown state of a file");
+  file.parent = static_cast<FileState::Parent>(parent);
+  file.kind = static_cast<FileState::Kind>(kind);
+  file.content = get<std::string>();
+  return *this;
+}
+
+Reader& Reader::operator>>(ProgramRun& run) {
+  run.arguments.resize(count(1000, "list of arguments"));
+  for (auto& argument : run.arguments) argument = get<std::string>();
+  run.inputs.resize(count(1000, "list of files"));
+  for (auto& [name, content] : run.inputs) {
+    name = get<std::string>();
+    content = get<std::string>();
+  }
+  run.seconds = get<double>();
+  return *this;
+}
+
+Reader& Reader::operator>>(ProgramResult& result) {
+  result.status = get<std::int32_t>();
+  result.signal = get<std::int32_t>();
+  result.timed_out = get<bool>();
+  result.seconds = get<double>();
+  result.out = get<std::string>();
+  result.err = get<std::string>();
+  return *this;
+}
+
+void Reader::expect_end() const {
+  if (at_ != bytes_.size()) throw ProtocolError("a message is longer than its content");
+}
+
+namespace {
+
+// Writes to a socket without SIGPIPE when the other side has gone (an error instead); to any
+// other descriptor as write() does.
+void write_all(int fd, const char* data, std::size_t size) {
+  bool socket = true;
+  while (size > 0) {
+    ssize_t written = socket ? ::send(fd, data, size, MSG_NOSIGNAL) : ::write(fd, data, size);
+    if (written < 0 && errno == ENOTSOCK) {
+      socket = false;
+      continue;
+    }
+    if (written < 0 && errno == EINTR) continue;
+    if (written <= 0) throw ProtocolError("the other side of the channel has gone");
+    data += written;
+    size -= static_cast<std::size_t>(written);
+  }
+}
+
+void read_all(int fd, char* data, std::size_t size) {
+  while (size > 0) {
+    const ssize_t got = ::read(fd, data, size);
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0) throw ProtocolError("the channel ended");
+    data += got;
+    size -= static_cast<std::size_t>(got);
+  }
+}
+
+}  // namespace
+
+void send(int fd, const std::string& message) {
+  if (message.size() > kMaxMessageBytes) throw ProtocolError("a message longer than the grader takes");
+  std::string framed(sizeof(std::uint32_t), '\0');
+  const auto size = static_cast<std::uint32_t>(message.size());
+  std::memcpy(framed.data(), &size, sizeof size);
+  framed += message;
+  write_all(fd, framed.data(), framed.size());
+}
+
+std::string receive(int fd) {
+  std::uint32_t size = 0;
+  read_all(fd, reinterpret_cast<char*>(&size), sizeof size);
+  if (size > kMaxMessageBytes) {
+    throw ProtocolError("a message of " + std::to_string(size) + " bytes, more than the grader takes");
+  }
+  std::string message(size, '\0');
+  read_all(fd, message.data(), size);
+  return message;
+}
+
+}  // namespace billiard::judge
