@@ -260,17 +260,31 @@ class Symbols:
 
     def __init__(self, build):
         recipe = build.worker_recipe
-        libraries = {}
-        for name in ["libc.so.6", "libm.so.6"]:
-            libraries[name] = self.library(recipe["compiler"], name)
-        self.c_library = defined_symbols([path for path in libraries.values() if path], dynamic=True)
-        self.cxx_library = defined_symbols([path for path in [self.library(recipe["compiler"], name) for name in
-                                                              ["libstdc++.so.6", "libgcc_s.so.1"]] if path],
-                                           dynamic=True)
-        self.grader = defined_symbols([*recipe["harness"], *recipe["libraries"]])
-        self.reference = {task: defined_symbols(objects) for task, objects in recipe["tasks"].items()
-                          if isinstance(objects, list)}
-        self.own = {task: set(defined_symbols([path])) for task, path in build.stubs.items() if task not in PROGRAM_TASKS}
+        c_libraries = [self.library(recipe["compiler"], name) for name in ["libc.so.6", "libm.so.6"]]
+        cxx_libraries = [self.library(recipe["compiler"], name) for name in ["libstdc++.so.6", "libgcc_s.so.1"]]
+        stubs = {task: path for task, path in build.stubs.items() if task not in PROGRAM_TASKS}
+        files = [*c_libraries, *cxx_libraries, *recipe["harness"], *recipe["libraries"], *map(str, stubs.values()),
+                 *[path for objects in recipe["tasks"].values() if isinstance(objects, list) for path in objects]]
+        # Listed once per build folder, and again when any of these files changes.
+        key = hashlib.sha256(json.dumps([[path, TaskFileCompiler.signature(path)] for path in files if path])
+                             .encode()).hexdigest()
+        saved = build.submitted / "symbols.json"
+        try:
+            listed = json.loads(saved.read_text())
+            if listed["key"] != key:
+                raise ValueError
+        except (OSError, ValueError, KeyError):
+            listed = {"key": key,
+                      "c": list(defined_symbols([path for path in c_libraries if path], dynamic=True)),
+                      "cxx": list(defined_symbols([path for path in cxx_libraries if path], dynamic=True)),
+                      "grader": list(defined_symbols([*recipe["harness"], *recipe["libraries"]])),
+                      "reference": {task: list(defined_symbols(objects)) for task, objects in recipe["tasks"].items()
+                                    if isinstance(objects, list)},
+                      "own": {task: list(defined_symbols([path])) for task, path in stubs.items()}}
+            write_text(saved, json.dumps(listed))
+        self.c_library, self.cxx_library, self.grader = set(listed["c"]), set(listed["cxx"]), set(listed["grader"])
+        self.reference = {task: set(names) for task, names in listed["reference"].items()}
+        self.own = {task: set(names) for task, names in listed["own"].items()}
 
     @staticmethod
     def library(compiler, name):
@@ -394,8 +408,10 @@ class TaskFileCompiler:
                 pieces[group].append((target, file_digest(target)))
         return pieces
 
-    def command(self, task, text):
-        words = self.words[Path(TASK_FILE[task]).suffix]
+    def command(self, task, text, commands=None):
+        """The compile command of a task file: as run, with the headers' copies (or as the build
+        has it, with `commands=self.commands`, which is what a compiled file's key holds)."""
+        words = (commands or self.words)[Path(TASK_FILE[task]).suffix]
         if task not in PROGRAM_TASKS and defines_before_course_headers(text):
             without = []
             for at, word in enumerate(words):
@@ -428,7 +444,8 @@ class TaskFileCompiler:
         seconds spent). The compiled file is put where its worker is linked from."""
         text = source.read_bytes()
         words = self.command(task, text)
-        key = hashlib.sha256(json.dumps([TASK_FILE[task], words, self.protection]).encode() + b"\0" + text).hexdigest()
+        key = hashlib.sha256(json.dumps([TASK_FILE[task], self.command(task, text, self.commands), self.protection])
+                             .encode() + b"\0" + text).hexdigest()
         if remembered:
             saved = self.compiled_files.recall(key)
             if saved and all(self.signature(path) == value for path, value in saved[1]["headers"].items()):
