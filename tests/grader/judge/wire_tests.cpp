@@ -88,8 +88,12 @@ TEST(Values, MalformedMessagesAreProtocolErrors) {
   EXPECT_THROW(longer_than_message.get<std::string>(), ProtocolError);
   Reader bad_ending((Writer() << std::uint8_t{200}).bytes());
   EXPECT_THROW(bad_ending.get<Ending>(), ProtocolError);
-  Reader bad_rng((Writer() << std::string("not a generator")).bytes());
-  EXPECT_THROW(bad_rng.get<Rng>(), ProtocolError);
+  Reader short_rng((Writer() << std::string("not a generator")).bytes());
+  EXPECT_THROW(short_rng.get<Rng>(), ProtocolError);
+  Writer broken;  // a generator whose position lies beyond its state
+  for (std::size_t word = 0; word <= Rng::state_size; ++word) broken << std::int64_t{1000};
+  Reader broken_rng(broken.bytes());
+  EXPECT_THROW(broken_rng.get<Rng>(), ProtocolError);
   Reader extra((Writer() << 1.0 << 2.0).bytes());
   extra.get<double>();
   EXPECT_THROW(extra.expect_end(), ProtocolError);

@@ -1,0 +1,205 @@
+#!/usr/bin/python3
+"""The hostile suite: each submission of tests/grader/hostile/attacks/ tries one way to break a
+promise of the grader, and is graded end to end. Every attack must score 0 in its own task, change
+no other task's points, show nothing of the reference code, the hidden tests or the repository's
+history in any output, and leave nothing behind (no process and no file of a cell's user). The
+attacks' files are listed in tests/grader/hostile/README.md.
+
+    /usr/bin/python3 tests/grader/test_attacks.py BUILD_FOLDER [unittest arguments]
+
+BUILD_FOLDER is the grader's build, shared with test_grader.py (CTest runs them one at a time).
+"""
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+REPO = HERE.parents[1]
+sys.path.insert(0, str(HERE))
+import cell  # noqa: E402
+import test_grader  # noqa: E402
+from progress import TASK_FILE, TASKS  # noqa: E402
+
+ATTACKS = HERE / "hostile" / "attacks"
+
+
+def attack(name, **paths):
+    """The file of an attack; a template (.in) gets the given paths for its @NAME@ words."""
+    folder = ATTACKS / name
+    files = list(folder.iterdir())
+    if len(files) != 1:
+        raise AssertionError(f"{folder} must hold exactly one task file")
+    source = files[0]
+    if source.suffix != ".in":
+        return source
+    text = source.read_text()
+    for word, path in paths.items():
+        text = text.replace(f"@{word}@", str(path))
+    if re.findall(r"@[A-Z]+@", text):
+        raise AssertionError(f"{source}: {re.findall(r'@[A-Z]+@', text)} not given")
+    target = Path(tempfile.mkdtemp(prefix="attack-")) / source.stem
+    target.write_text(text)
+    return target
+
+
+def task_of(path):
+    """The task a task file is for, by its name."""
+    return next(task for task in TASKS if TASK_FILE[task] == Path(path).name)
+
+
+def submission(base, attacks):
+    """A submission folder: every task's file from `base` (solutions/ or tasks/), the attacks' in
+    their tasks."""
+    folder = Path(tempfile.mkdtemp(prefix="hostile-"))
+    for task in TASKS:
+        shutil.copyfile(REPO / base / TASK_FILE[task], folder / TASK_FILE[task])
+    for path in attacks:
+        shutil.copyfile(path, folder / Path(path).name)
+    return folder
+
+
+def secrets():
+    """Pieces of text that must never reach an output: lines of the reference solutions and of the
+    hidden tests that no file a student has holds, and the hidden tests' names."""
+    shared = set()
+    for path in [*(REPO / "tasks").iterdir(), *(REPO / "tests" / "graded").glob("*.?pp")]:
+        if path.is_file():
+            shared |= {line.strip() for line in path.read_text(errors="replace").splitlines()}
+    found = set()
+    for path in [*(REPO / "solutions").glob("*.c*"), *(REPO / "tests" / "graded" / "hidden").glob("*.cpp")]:
+        for line in path.read_text().splitlines():
+            line = line.strip()
+            if len(line) >= 40 and line not in shared:
+                found.add(line)
+        found |= set(re.findall(r"GRADED_TEST\(\w+,\s*(\w+),", path.read_text())) if "hidden" in str(path) else set()
+    return found
+
+
+def outputs(report, stdout, results):
+    """Everything a grading wrote that someone reads: {where: text}."""
+    written = {"the printed table": stdout, "results.json": json.dumps(report)}
+    for path in results.rglob("*"):
+        if path.is_file():
+            written[str(path.relative_to(results))] = path.read_text(errors="replace")
+    return written
+
+
+def leftovers():
+    """What the cells left: their users' processes, and their files in the shared folders."""
+    first, last = cell.FIRST_CELL_USER, cell.FIRST_CELL_USER + cell.CELL_USERS
+    found = []
+    for entry in Path("/proc").iterdir():
+        try:
+            if entry.name.isdigit():
+                uid = int(re.search(r"^Uid:\s+(\d+)", (entry / "status").read_text(), re.M).group(1))
+                state = re.search(r"^State:\s+(\w)", (entry / "status").read_text(), re.M).group(1)
+                if first <= uid < last and state not in "ZX":
+                    found.append(f"process {entry.name} of user {uid}")
+        except (OSError, AttributeError):
+            pass
+    for shared in cell.SHARED_FOLDERS:
+        try:
+            for entry in os.scandir(shared):
+                owner = entry.stat(follow_symlinks=False).st_uid
+                if first <= owner < last or "billiard-stash" in entry.name or "billiard-hog" in entry.name:
+                    found.append(f"{entry.path} of user {owner}")
+        except OSError:
+            pass
+    return found
+
+
+class Attacks(unittest.TestCase):
+    def grade(self, folder, *options):
+        """Grades a hostile submission (removed afterwards); returns (scores, maxima, report,
+        {where: text} of every output)."""
+        results = Path(tempfile.mkdtemp(prefix="hostile-results-"))
+        try:
+            scores, maxima, report, _, stdout = test_grader.grade(folder, *options, results=results)
+            return scores, maxima, report, outputs(report, stdout, results)
+        finally:
+            shutil.rmtree(folder)
+            shutil.rmtree(results, ignore_errors=True)
+
+    def assert_nothing_leaks(self, written, also=()):
+        for where, text in written.items():
+            for secret in [*secrets(), *also]:
+                self.assertNotIn(secret, text, f"{where} shows '{secret}'")
+            for line in text.splitlines():
+                if line.startswith(("READ ", "LISTED ")):
+                    self.assertNotRegex(line, rf"{re.escape(str(REPO))}|{re.escape(str(test_grader.BUILD))}|/proc/|judge",
+                                        f"{where}: an attack read {line}")
+            self.assertNotIn("LEAKED:", text, f"{where}: a stash of another test reached a message")
+        self.assertEqual(leftovers(), [], "the cells left processes or files behind")
+
+    def test_forging_a_verdict_gains_nothing(self):
+        """The verdict rewritten at exit, a constructor that speaks the judge's protocol, main()
+        and the C library replaced, the secret searched in memory, operator new replaced,
+        GoogleTest's reporter installed, the C program printing the expected output: each scores 0
+        in its task, and the tasks beside them keep full points."""
+        attacks = {name: attack(name) for name in ["verdict_at_exit", "protocol_in_constructor", "defines_main",
+                                                   "libc_interposition", "secret_in_memory", "operator_new",
+                                                   "fake_reporter", "expected_output"]}
+        attacked = {task_of(path) for path in attacks.values()}
+        self.assertEqual(len(attacked), len(attacks), "one attack per task")
+        scores, maxima, report, written = self.grade(submission("solutions", attacks.values()))
+        for task in TASKS:
+            if task in attacked:
+                self.assertEqual(scores[task], 0, f"{task} is attacked and must score 0")
+            else:
+                self.assertEqual(scores[task], maxima[task], f"{task} is correct and must keep full points")
+        shown = {test["name"].split(":")[0]: test["output"] for test in report["tests"] if test["status"] == "failed"}
+        self.assertIn("main()", shown[task_of(attacks["defines_main"])])
+        self.assertIn("operator new", shown[task_of(attacks["operator_new"])])
+        self.assertIn("wait4, a function of the C library", shown[task_of(attacks["libc_interposition"])])
+        self.assertIn("GoogleTest", shown[task_of(attacks["fake_reporter"])])
+        for text in written.values():  # the memory search found no secret, if it got as far as saying so
+            found = re.search(r"FOUND-SECRETS-BEGIN\n(.*?)FOUND-SECRETS-END", text, re.S)
+            self.assertTrue(found is None or not found.group(1).strip(), found and found.group(1))
+        self.assert_nothing_leaks(written)
+
+    def test_other_tasks_and_files_stay_out_of_reach(self):
+        """A task's code that tries to outlive its test and take over the later tasks' tests (they
+        are the untouched stubs here: any point they gain would be forged), one that reads the
+        reference code, the hidden tests, the repository's history and the judges' programs and
+        folders, one that swaps links into where pictures are drawn, and one that stashes the hidden
+        tests' inputs where a later test could show them: every task scores 0 and nothing leaks."""
+        attacks = [attack("later_tasks"), attack("reads_reference", REPO=REPO, BUILD=test_grader.BUILD),
+                   attack("stash_hidden_inputs"), attack("swapped_link", REPO=REPO)]
+        try:
+            scores, _, _, written = self.grade(submission("tasks", attacks))
+        finally:
+            for path in attacks:
+                if path.parent.name.startswith("attack-"):
+                    shutil.rmtree(path.parent)
+        self.assertEqual(scores, {task: 0 for task in TASKS})
+        self.assertTrue(any("not computed" in text for text in written.values()), "the attacks ran")
+        self.assert_nothing_leaks(written)
+
+    def test_holding_memory_and_processors_costs_only_its_own_task(self):
+        """A task whose code starts processes that hold memory, busy threads, allocates beyond its
+        limit and fills shared memory: it scores 0, every other task keeps full points, and nothing
+        of it is left once the grading is over."""
+        path = attack("memory_and_processes")
+        scores, maxima, _, written = self.grade(submission("solutions", [path]), "--limits", "fixed", "--timeout",
+                                                "2", "--task-budget", "30")
+        task = task_of(path)
+        self.assertEqual(scores[task], 0)
+        for other in TASKS:
+            if other != task:
+                self.assertEqual(scores[other], maxima[other], f"{other} is correct and must keep full points")
+        self.assert_nothing_leaks(written)
+
+
+if __name__ == "__main__":
+    if len(sys.argv) < 2:
+        print(__doc__)
+        sys.exit(2)
+    test_grader.BUILD = Path(sys.argv.pop(1)).resolve()
+    unittest.main(verbosity=2)
