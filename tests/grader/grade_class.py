@@ -229,10 +229,11 @@ def suite_fingerprints():
     grader and the build files. A change to one task's tests changes that task's alone."""
     shared = hashlib.sha256()
     common = ["CMakeLists.txt", "CMakePresets.json", "tests/CMakeLists.txt", "tests/grader/CMakeLists.txt",
-              "tests/grader/course.txt", "tests/grader/grade.py", "tests/grader/time_limits.py",
+              "tests/grader/course.txt", "tests/grader/grade.py", "tests/grader/building.py", "tests/grader/cell.py",
+              "tests/grader/judging.py", "tests/grader/reports.py", "tests/grader/time_limits.py",
               "tests/grader/progress.py", "tests/grader/not_implemented.cpp", "tests/grader/not_implemented.c"]
     paths = [REPO / path for path in common]
-    for folder in ["lib/include", "lib/src", "tests/support", "tasks"]:
+    for folder in ["lib/include", "lib/src", "tests/support", "tests/grader/cell", "tests/grader/judge", "tasks"]:
         paths += sorted(path for path in (REPO / folder).rglob("*") if path.is_file())
     for path in paths:
         if path.is_file() and not path.name.endswith(".md"):

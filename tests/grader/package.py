@@ -60,6 +60,7 @@ STUDENT_EXCLUDED = [
     "tests/graded/hidden/",           # instructor-only tests
     "tests/grader/hostile/",          # the grader's own tests: a misbehaving submission
     "tests/grader/test_grader.py",    # ... and the tests that need solutions/ and hostile/
+    "tests/grader/test_attacks.py",   # ... the hostile suite
     "tests/grader/test_uploads.py",   # ... and the fuzzing of uploads (needs solutions/)
     "tests/grader/package.py",        # this script: Gradescope and Autolab packaging
     "tests/grader/test_packages.py",  # ... and its tests

@@ -315,6 +315,60 @@ class OnACluster(unittest.TestCase):
         self.assertGreater(len(counts), 50, "the page is (nearly) blank")
 
 
+class Hostile(unittest.TestCase):
+    def test_attackers_beside_honest_students_cost_them_nothing(self):
+        """A class of two honest students, each graded beside an attacker on two workers: one
+        attacker kills every process it can signal and reads and overwrites the other students'
+        files (tests/grader/hostile/attacks/class_neighbours), the other holds memory and
+        processors (memory_and_processes). The honest students keep full points, the attackers
+        score 0 in the attacked tasks, and no attacker's output holds another student's file."""
+        import test_attacks
+        results = WORK / "results-hostile"
+        shutil.rmtree(results, ignore_errors=True)
+        neighbours = test_attacks.attack("class_neighbours", CLASS=results, REPO=REPO)
+        memory = test_attacks.attack("memory_and_processes")
+        tasks = ["kinetic_energy", test_attacks.task_of(memory)]
+        reference = {task: (REPO / "solutions" / TASK_FILE[task]).read_text() for task in tasks}
+        students = {
+            # Each honest student's files are their own (graded, not copied from another's).
+            "honest-ada": {TASK_FILE[task]: text + "\n// ada's own\n" for task, text in reference.items()},
+            "honest-bob": {TASK_FILE[task]: text + "\n// bob's own\n" for task, text in reference.items()},
+            "attacker-neighbours": {**{TASK_FILE[task]: text for task, text in reference.items()},
+                                    TASK_FILE["kinetic_energy"]: neighbours.read_text()},
+            "attacker-memory": {**{TASK_FILE[task]: text for task, text in reference.items()},
+                                memory.name: memory.read_text()},
+        }
+        shutil.rmtree(neighbours.parent)
+        folder = WORK / "class-hostile"
+        shutil.rmtree(folder, ignore_errors=True)
+        for student, files in students.items():
+            (folder / student).mkdir(parents=True)
+            for name, text in files.items():
+                (folder / student / name).write_text(text)
+        status, output = run(["/usr/bin/python3", str(HERE / "grade.py"), "--class", str(folder), "--results",
+                              str(results), "--workers", "2", *[word for task in tasks for word in ("--task", task)]],
+                             timeout=1800)
+        self.assertEqual(status, 0, output[-5000:])
+        import csv
+        with open(results / "gradebook.csv") as file:
+            rows = {row["student"]: row for row in csv.DictReader(file) if row["student"] in students}
+        maxima = {task: sum(test["max_score"] for test in json.loads(
+            (results / "students" / "honest-ada" / "results.json").read_text())["tests"] if test["name"].startswith(task + ":"))
+            for task in tasks}
+        for honest in ["honest-ada", "honest-bob"]:
+            self.assertEqual({task: int(rows[honest][task]) for task in tasks}, maxima, honest)
+        self.assertEqual(int(rows["attacker-neighbours"]["kinetic_energy"]), 0)
+        self.assertEqual(int(rows["attacker-neighbours"][tasks[1]]), maxima[tasks[1]])
+        self.assertEqual(int(rows["attacker-memory"][tasks[1]]), 0)
+        self.assertEqual(int(rows["attacker-memory"]["kinetic_energy"]), maxima["kinetic_energy"])
+        for attacker in ["attacker-neighbours", "attacker-memory"]:
+            written = "".join(path.read_text(errors="replace") for path in (results / "students" / attacker).rglob("*")
+                              if path.is_file())
+            self.assertNotIn("ada's own", written)
+            self.assertNotIn("bob's own", written)
+        self.assertEqual(test_attacks.leftovers(), [])
+
+
 def main():
     global WORK
     if len(sys.argv) < 2:

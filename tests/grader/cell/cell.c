@@ -21,6 +21,7 @@
  *   --read PATH          Landlock: read and execute beneath PATH (repeatable)
  *   --write PATH         Landlock: also write, create and remove beneath PATH (repeatable)
  *   --require-landlock   fail where Landlock cannot be applied
+ *   --no-landlock        leave Landlock out (the cell's tests try each protection alone)
  *   --no-fork            seccomp: no new processes, threads only
  *   --fd FROM:TO         descriptor FROM becomes TO (repeatable); all others but 0, 1, 2 close
  *   --env NAME=VALUE     the environment holds only these, PATH, LANG, HOME and TMPDIR
@@ -249,7 +250,7 @@ int main(int argc, char** argv) {
   int read_count = 0, write_count = 0, env_count = 0, fd_count = 0;
   const char* dir = NULL;
   long long cpu = -1, memory = -1, file_size = -1, open_files = -1, processes = -1, user = -1;
-  int no_fork = 0, require_landlock = 0, kill_all = 0;
+  int no_fork = 0, require_landlock = 0, no_landlock = 0, kill_all = 0;
   int at = 1;
   for (; at < argc; ++at) {
     const char* option = argv[at];
@@ -264,6 +265,10 @@ int main(int argc, char** argv) {
     }
     if (strcmp(option, "--kill-all") == 0) {
       kill_all = 1;
+      continue;
+    }
+    if (strcmp(option, "--no-landlock") == 0) {
+      no_landlock = 1;
       continue;
     }
     if (strcmp(option, "--require-landlock") == 0) {
@@ -346,7 +351,7 @@ int main(int argc, char** argv) {
     set_limit(RLIMIT_NPROC, processes, processes, "RLIMIT_NPROC");
   }
   if (prctl(PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0) != 0) fail("no_new_privs");
-  apply_landlock(reads, read_count, writes, write_count, require_landlock);
+  if (!no_landlock) apply_landlock(reads, read_count, writes, write_count, require_landlock);
 
   const char* home = dir != NULL ? dir : "/";
   static char home_line[4200], tmp_line[4200];
