@@ -42,12 +42,10 @@ from pathlib import Path
 
 import cell
 import time_limits
-from building import (FOLDER, LINK, REPO, SPECIAL, SUBMITTED_FILE_CAP, TOO_LARGE, Build, TaskFileCompiler,  # noqa: F401
-                      build_suites, read_task_file, stage_submission)
+from building import REPO, Build, TaskFileCompiler, build_suites, stage_submission
 from judging import ResultCache, place_pictures, run_tests
-from progress import OFF, PROGRAM_TASKS, TASK_FILE, TASK_NUMBER, TASKS, is_optional  # noqa: F401 (for package.py)
-from reports import (PICTURE_LINE, PICTURES, cap, gradescope_results, junit_xml, print_table,  # noqa: F401
-                     results_from_records, submission_report, task_records, write_atomically)
+from progress import TASK_FILE, TASKS
+from reports import gradescope_results, junit_xml, print_table, submission_report, task_records, write_atomically
 from time_limits import TaskClock, fixed_limits, measured_limits
 
 

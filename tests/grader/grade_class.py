@@ -67,11 +67,13 @@ import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import building
 import grade
+import reports
 import package
 from progress import NOT_WRITTEN, OPTIONAL, TASK_FILE, TASK_NUMBER, TASKS
 
-REPO = grade.REPO
+REPO = building.REPO
 DEFAULT_RESULTS = REPO / "build" / "grade" / "class"
 # Seconds one student's grading may take before it counts as failed (and is tried again on the
 # next run): the platforms' bound, plus a worker's first build of the grader.
@@ -339,7 +341,7 @@ class ClassResults:
         pictures = pictures or {}
         for record in records:
             for test in record["tests"]:
-                drawn = own / grade.PICTURES / f"{test['name']}.svg"  # grade.py names a test's picture so
+                drawn = own / reports.PICTURES / f"{test['name']}.svg"  # grade.py names a test's picture so
                 drawn.unlink(missing_ok=True)  # the last grading's
                 if test.get("picture") and drawn.name in pictures:
                     drawn.parent.mkdir(parents=True, exist_ok=True)
@@ -347,17 +349,17 @@ class ClassResults:
                     line = f"Picture: {drawn}\n"
                 else:
                     test["picture"], line = "", ""
-                test["feedback"] = grade.PICTURE_LINE.sub(lambda _: line, test["feedback"]).strip()
-            grade.write_atomically(self.record_path(student, record["task"]),
+                test["feedback"] = reports.PICTURE_LINE.sub(lambda _: line, test["feedback"]).strip()
+            reports.write_atomically(self.record_path(student, record["task"]),
                                    json.dumps({"key": keys[record["task"]], "student": student.name, "record": record}))
         if log is not None:
-            grade.write_atomically(own / "grade.log", "\n".join(student.notes) + "\n\n" + log)
+            reports.write_atomically(own / "grade.log", "\n".join(student.notes) + "\n\n" + log)
         saved = [record for task in TASKS if (record := self.saved(student, task))]
-        results = grade.results_from_records([entry["record"] for entry in saved])
-        grade.write_atomically(own / "results.json",
-                               json.dumps(grade.gradescope_results(results, 0, own), indent=2) + "\n")
-        grade.write_atomically(own / "junit.xml", grade.junit_xml(results))
-        grade.write_atomically(own / "report.html", grade.submission_report(results, own, student.name))
+        results = reports.results_from_records([entry["record"] for entry in saved])
+        reports.write_atomically(own / "results.json",
+                               json.dumps(reports.gradescope_results(results, 0, own), indent=2) + "\n")
+        reports.write_atomically(own / "junit.xml", reports.junit_xml(results))
+        reports.write_atomically(own / "report.html", reports.submission_report(results, own, student.name))
 
     def pictures_of(self, student_folder, record):
         """The pictures a saved record's tests name, from the folder of the student who has them."""
@@ -506,7 +508,7 @@ def run_pending(arguments, results, pending):
                 error = future.exception()
                 failures.append(student.name)
                 own = results.folder / "students" / student.folder
-                grade.write_atomically(own / "grade.log", f"{type(error).__name__}: {error}\n")
+                reports.write_atomically(own / "grade.log", f"{type(error).__name__}: {error}\n")
                 print(f"[{done}/{len(pending)}] {student.name}: not graded ({type(error).__name__}; see "
                       f"{own / 'grade.log'})", flush=True)
             future.release()
@@ -526,7 +528,7 @@ def lead_line(feedback):
     """The line of a failure message that says most: its hint, else its first line."""
     lines = [line.strip() for line in feedback.splitlines() if line.strip()]
     hint = next((line for line in lines if line.startswith("Hint:")), None)
-    return grade.cap(hint or (lines[0] if lines else "(no message)"), 300)
+    return reports.cap(hint or (lines[0] if lines else "(no message)"), 300)
 
 
 def write_reports(folder, students, graded):
@@ -579,7 +581,7 @@ def write_reports(folder, students, graded):
             writer.writerow([task, name, entry["points"], entry["visibility"], entry["failed"], entry["not_written"],
                              len(graded), most_common(entry), picture_of(entry)])
     os.replace(folder / "tests.csv.partial", folder / "tests.csv")
-    grade.write_atomically(folder / "report.html", report_html(rows, tests, maxima, counted, len(graded)))
+    reports.write_atomically(folder / "report.html", report_html(rows, tests, maxima, counted, len(graded)))
 
 
 def most_common(entry):

@@ -34,7 +34,6 @@ import threading
 import time
 from pathlib import Path
 
-import time_limits
 from building import REPO, file_digest
 from cell import Limits, read_regular_file
 from progress import PROGRAM_TASKS, task_name
@@ -635,4 +634,3 @@ def run_tests(results, build, cells, clocks, jobs, cache, quiet=False):
             cache.remember(test, programs)
 
 
-__all__ = ["run_tests", "place_pictures", "ResultCache", "time_limits"]

@@ -46,9 +46,10 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parents[1]
 sys.path.insert(0, str(HERE))
-import grade  # noqa: E402  (grade.py: the tasks, and how a task file is read)
+import building  # noqa: E402  (how a task file is read)
+import progress  # noqa: E402  (the course's tasks)
 
-TASKS = grade.TASKS
+TASKS = progress.TASKS
 GRADE = "tests/grader/grade.py"
 WORKFLOW = ".github/workflows/classroom.yml"
 
@@ -111,7 +112,7 @@ PLATFORM_GRADE_OPTIONS = ["--limits", "reference", "--total", str(PLATFORM_TOTAL
 # most this (on a fast machine most budgets sit at their floor, so this costs correct code nothing).
 AUTOLAB_PREBUILT_TOTAL = 140
 AUTOLAB_PREBUILT_OPTIONS = ["--limits", "reference", "--total", str(AUTOLAB_PREBUILT_TOTAL)]
-SUBMITTED_FILE_CAP = grade.SUBMITTED_FILE_CAP  # bytes: larger task files are not graded
+SUBMITTED_FILE_CAP = building.SUBMITTED_FILE_CAP  # bytes: larger task files are not graded
 ARCHIVE_SCAN_CAP = 256 << 20  # bytes of an archive's (uncompressed) content looked through
 ARCHIVE_MEMBER_CAP = 20_000  # entries of an archive looked at
 
@@ -221,7 +222,7 @@ def classroom_workflow(points):
         "      uses: actions/checkout@v4",
     ]
     for task in TASKS:
-        name = f"Task {grade.TASK_NUMBER[task]} {task}" + (" (optional)" if grade.is_optional(task) else "")
+        name = f"Task {progress.TASK_NUMBER[task]} {task}" + (" (optional)" if progress.is_optional(task) else "")
         lines += [
             f"    - name: {name}",
             f"      id: {step_id(task)}",
@@ -460,7 +461,7 @@ def find_task_files(places, destination):
     others = 0
     cut_short = []  # archives and folders only partly looked through
 
-    by_file = {grade.TASK_FILE[task]: task for task in TASKS}
+    by_file = {progress.TASK_FILE[task]: task for task in TASKS}
 
     def task_of(parts):
         name = parts[-1] if parts else ""
@@ -474,7 +475,7 @@ def find_task_files(places, destination):
         if task is None:
             others += 1
         elif size > SUBMITTED_FILE_CAP:
-            passed_over[task].append(f"{shown(where)} {grade.TOO_LARGE}")
+            passed_over[task].append(f"{shown(where)} {building.TOO_LARGE}")
         else:
             rank = (0 if len(parts) > 1 and parts[-2] == "tasks" else 1, len(parts), where)
             candidates[task].append((rank, where, read))
@@ -500,9 +501,9 @@ def find_task_files(places, destination):
                     for info in members[:ARCHIVE_MEMBER_CAP]:
                         where, parts = f"{label}:{info.filename}", member_parts(label, info.filename)
                         if info.is_dir():
-                            pass_over(where, parts, grade.FOLDER)
+                            pass_over(where, parts, building.FOLDER)
                         elif stat.S_ISLNK(info.external_attr >> 16):
-                            pass_over(where, parts, grade.LINK)
+                            pass_over(where, parts, building.LINK)
                         else:
                             consider(where, parts, lambda info=info: read_zip_member(path, info), info.file_size)
                 return True
@@ -517,18 +518,18 @@ def find_task_files(places, destination):
                         if member.isfile():
                             consider(where, parts, lambda member=member: read_tar_member(path, member), member.size)
                         elif member.isdir():
-                            pass_over(where, parts, grade.FOLDER)
+                            pass_over(where, parts, building.FOLDER)
                         elif member.issym() or member.islnk():
-                            pass_over(where, parts, grade.LINK)
+                            pass_over(where, parts, building.LINK)
                         else:
-                            pass_over(where, parts, grade.SPECIAL)
+                            pass_over(where, parts, building.SPECIAL)
                 return True
         except Exception:  # a damaged archive: whatever was found in it so far still counts
             return True
         return False
 
     def read_file(path):
-        text, why = grade.read_task_file(path)
+        text, why = building.read_task_file(path)
         if text is None:
             raise OSError(why or "is gone")
         return text
@@ -536,13 +537,13 @@ def find_task_files(places, destination):
     for place in places:
         place = Path(place)
         if place.is_symlink() or not (place.is_file() or place.is_dir()):
-            pass_over(place.name, [place.name], grade.LINK if place.is_symlink() else grade.SPECIAL)
+            pass_over(place.name, [place.name], building.LINK if place.is_symlink() else building.SPECIAL)
             continue
         if place.is_file():
             if not look_in_archive(place, place.name):
                 consider(place.name, [place.name], lambda place=place: read_file(place), place.stat().st_size)
             continue
-        pass_over(place.name, [place.name], grade.FOLDER)
+        pass_over(place.name, [place.name], building.FOLDER)
         looked_at = 0
         folders = [(place, 0)]
         while folders:  # not os.walk: it would recurse as deep as the folders go, and follow nothing anyway
@@ -562,15 +563,15 @@ def find_task_files(places, destination):
                 parts = where.split("/")
                 try:
                     if entry.is_symlink():
-                        pass_over(where, parts, grade.LINK)
+                        pass_over(where, parts, building.LINK)
                     elif entry.is_dir():
                         if entry.name.startswith((".", "__MACOSX")):  # .git too
                             continue
-                        pass_over(where, parts, grade.FOLDER)
+                        pass_over(where, parts, building.FOLDER)
                         if depth < 64:
                             folders.append((path, depth + 1))
                     elif not entry.is_file():
-                        pass_over(where, parts, grade.SPECIAL)
+                        pass_over(where, parts, building.SPECIAL)
                     elif entry.name.endswith((".cpp", ".c")):
                         consider(where, parts, lambda path=path: read_file(path), entry.stat().st_size)
                     elif not look_in_archive(path, where):
@@ -589,21 +590,21 @@ def find_task_files(places, destination):
                 passed_over[task].append(f"{shown(where)} could not be read")
                 continue
             if len(text) > SUBMITTED_FILE_CAP:
-                passed_over[task].append(f"{shown(where)} {grade.TOO_LARGE}")
+                passed_over[task].append(f"{shown(where)} {building.TOO_LARGE}")
                 continue
-            (destination / grade.TASK_FILE[task]).write_bytes(text)
+            (destination / progress.TASK_FILE[task]).write_bytes(text)
             chosen = where
             break
         skipped = [shown(where) for _, where, _ in candidates[task] if where != chosen]
         if chosen is None:
             # grade.py needs every file to configure its build: the course's untouched stub
             # stands in, so the task scores 0 with "not implemented yet".
-            shutil.copyfile(REPO / "tasks" / grade.TASK_FILE[task], destination / grade.TASK_FILE[task])
+            shutil.copyfile(REPO / "tasks" / progress.TASK_FILE[task], destination / progress.TASK_FILE[task])
             missing = "no file of this name that can be graded" if passed_over[task] else "not found in your submission"
-            notes.append(f"  {grade.TASK_FILE[task]}: {missing}, graded as not implemented (0 points)")
+            notes.append(f"  {progress.TASK_FILE[task]}: {missing}, graded as not implemented (0 points)")
         else:
             found[task] = chosen
-            notes.append(f"  {grade.TASK_FILE[task]}: {shown(chosen)}"
+            notes.append(f"  {progress.TASK_FILE[task]}: {shown(chosen)}"
                          + (f" (also found, not graded: {', '.join(skipped)})" if skipped else ""))
         for line in passed_over[task]:
             notes.append(f"    not graded: {line}")
@@ -719,7 +720,7 @@ def command_autolab(arguments):
           f"{out / 'autograding-image.sh'}")
     print("Autolab problems (names and maximum scores):")
     for task in TASKS:
-        print(f"  {task}  {points[task]}" + ("  (optional: extra credit)" if grade.is_optional(task) else ""))
+        print(f"  {task}  {points[task]}" + ("  (optional: extra credit)" if progress.is_optional(task) else ""))
     print(f"Autolab settings: handin file name handin.tar. Autograding image: run autograding-image.sh where it is "
           f"built; then the default autograding timeout of {AUTOLAB_DEFAULT_TIMEOUT} s is enough. Without it, set "
           f"the timeout to {AUTOLAB_TIMEOUT} s (the most Autolab allows).")
@@ -792,8 +793,8 @@ def students_text(markdown):
 
 def stages_off_files():
     """The files of the stages course.txt switches off: left out of the student release."""
-    return [path for stage in grade.OFF
-            for path in (f"tasks/{grade.TASK_FILE[stage]}", f"tests/graded/test_{stage}.cpp",
+    return [path for stage in progress.OFF
+            for path in (f"tasks/{progress.TASK_FILE[stage]}", f"tests/graded/test_{stage}.cpp",
                          f"tests/graded/{stage}_support.hpp")]
 
 

@@ -25,6 +25,8 @@ REPO = HERE.parents[1]
 sys.path.insert(0, str(HERE))
 import browser  # noqa: E402
 import package  # noqa: E402  (the platforms' time limits)
+import progress  # noqa: E402
+import time_limits  # noqa: E402
 
 TASKS = package.TASKS
 BUILD = None  # set from the command line
@@ -106,7 +108,7 @@ def mutant_source(mutant):
     original lines must occur exactly once in the current reference solution, so a mutant that no
     longer fits the solutions fails loudly instead of testing stale code."""
     task = mutant.parent.name
-    file = package.grade.TASK_FILE[task]
+    file = progress.TASK_FILE[task]
     solution = (REPO / "solutions" / file).read_text()
     blocks = re.findall(r"^<<<<<<< solutions/(\w+\.c(?:pp)?)\n(.*?)^=======\n(.*?)^>>>>>>> mutant\n",
                         mutant.read_text(), re.DOTALL | re.MULTILINE)
@@ -245,7 +247,7 @@ def submission_from_solutions(**replacements):
     """A temporary submission: the reference files, with some replaced by the given files
     (a .mutant file is applied to the reference solution of its task)."""
     folder = Path(tempfile.mkdtemp(prefix="submission-"))
-    files = package.grade.TASK_FILE
+    files = progress.TASK_FILE
     for task in TASKS:
         shutil.copyfile(REPO / "solutions" / files[task], folder / files[task])
     for task, source in replacements.items():
@@ -284,9 +286,9 @@ class GradesKnownSubmissions(unittest.TestCase):
         self.assertEqual(scores, maxima)
         self.assertEqual(sum(int(suite.get("failures")) for suite in junit.iter("testsuite")), 0)
         # The table's total counts the required tasks; the optional stages are shown apart.
-        counted = sum(points for task, points in maxima.items() if not package.grade.is_optional(task))
+        counted = sum(points for task, points in maxima.items() if not progress.is_optional(task))
         self.assertRegex(output, rf"total +{counted} / {counted}\n")
-        optional = sum(points for task, points in maxima.items() if package.grade.is_optional(task))
+        optional = sum(points for task, points in maxima.items() if progress.is_optional(task))
         if optional:
             self.assertRegex(output, rf"optional +{optional} / {optional} +\(extra credit")
         self.assertEqual(report["score"], sum(maxima.values()), "results.json's score includes the extra credit")
@@ -322,7 +324,7 @@ class GradesKnownSubmissions(unittest.TestCase):
         # processes are stopped, and the other tasks keep full points.
         (scores, maxima, report, junit, output), elapsed, leftovers = grade_alone(
             submission_from_solutions(propagate=HERE / "hostile" / "propagate.cpp"), *package.PLATFORM_GRADE_OPTIONS)
-        limits = package.grade.time_limits.saved_limits(BUILD)
+        limits = time_limits.saved_limits(BUILD)
         budget = limits["propagate"].budget
         bound = sum(item.budget for item in limits.values())
         self.check_gradescope_format(report)
@@ -356,7 +358,7 @@ class GradesKnownSubmissions(unittest.TestCase):
         # The reference's times as if measured on a machine twice as fast as this one (as when a
         # platform sets the grader up on a faster machine than it grades on): the grader finds
         # this machine slower and scales the limits with it.
-        limits = package.grade.time_limits
+        limits = time_limits
         path = BUILD / limits.REFERENCE_TIMES
         grade(REPO / "solutions", "--task", "kinetic_energy")  # the reference's times are measured
         saved = path.read_text()

@@ -37,9 +37,11 @@ REPO = HERE.parents[1]
 sys.path.insert(0, str(HERE))
 import package  # noqa: E402  (the script under test, for its lists of tasks and exclusions)
 import release_check  # noqa: E402  (how the release's README is read: its commands and paths)
+import progress  # noqa: E402
+import time_limits  # noqa: E402
 
 TASKS = package.TASKS
-TASK_FILE = package.grade.TASK_FILE  # <task>.cpp, or <task>.c for a C task
+TASK_FILE = progress.TASK_FILE  # <task>.cpp, or <task>.c for a C task
 TESTS = None  # the build's tests/ folder, from the command line
 WORK = None   # TESTS / "package-tests"
 
@@ -355,7 +357,7 @@ class ProjectCI(unittest.TestCase):
 class Bounds(unittest.TestCase):
     def test_readme_states_the_limits_the_grader_and_packages_use(self):
         """The instructors' guide's time limits and bounds are the ones grade.py and package.py compute."""
-        limits = package.grade.time_limits
+        limits = time_limits
         readme = " ".join((REPO / "tests" / "grader" / "README.md").read_text().split())
         self.assertEqual(limits.MARGIN, 10, "the instructors' guide says 'ten times'")
         statements = [
@@ -401,8 +403,8 @@ class Guides(unittest.TestCase):
         kinds = {"six": 0, "stages": 0, "c": 0}
         for mutant in mutants:
             task = mutant.parent.name
-            kinds["c" if task in package.grade.PROGRAM_TASKS else "six" if
-                  package.grade.TASK_NUMBER[task] <= 6 else "stages"] += 1
+            kinds["c" if task in progress.PROGRAM_TASKS else "six" if
+                  progress.TASK_NUMBER[task] <= 6 else "stages"] += 1
         self.assertIn(f"{len(mutants)} buggy solutions it must catch ({kinds['six']} of the six tasks, "
                       f"{kinds['stages']} of the stages, {kinds['c']} of the C track)", readme)
 
@@ -680,7 +682,7 @@ def endless_loops(task):
     """The stub of a task (tasks/<task>.cpp) with each `throw` replaced by an endless loop (for a C
     task, the stub's `exit(1)` after its "not implemented yet")."""
     stub = (REPO / "tasks" / TASK_FILE[task]).read_text()
-    unwritten = r"exit\(1\);" if task in package.grade.PROGRAM_TASKS else r"throw NotImplemented\([^;]*\);"
+    unwritten = r"exit\(1\);" if task in progress.PROGRAM_TASKS else r"throw NotImplemented\([^;]*\);"
     looping, count = re.subn(unwritten, "for (volatile unsigned spin = 0;; spin = spin + 1) {}", stub)
     assert count >= 1, f"tasks/{TASK_FILE[task]} has no `throw NotImplemented(...)` to replace"
     return looping
@@ -723,7 +725,7 @@ def slow_solution(task):
     """The reference solution of a task made five times slower: each call of the course's
     functions it defines (a C task: the whole program) takes five times its CPU time."""
     source = (REPO / "solutions" / TASK_FILE[task]).read_text()
-    if task in package.grade.PROGRAM_TASKS:
+    if task in progress.PROGRAM_TASKS:
         return (SLOWER_C + source + "\n#undef main\nint main(int argc, char **argv) {\n  slower_start = clock();\n"
                 "  atexit(slower_spin);\n  return slower_main(argc, argv);\n}\n")
     definition = re.compile(rf"^[\w:<>]+[\s&*]+({'|'.join(CONTRACT_FUNCTIONS)})\([^;{{}}]*\)\s*\{{", re.MULTILINE)
@@ -780,7 +782,7 @@ class Gradescope(unittest.TestCase):
         # minutes. Then only propagate loops: the other tasks keep full points.
         root = self.autograder()
         # The bound setup.sh printed: the budgets measured there, and the check of the build.
-        limits = package.grade.time_limits.saved_limits(root / "source" / "build" / "grade" / "build")
+        limits = time_limits.saved_limits(root / "source" / "build" / "grade" / "build")
         limit = sum(item.budget for item in limits.values()) + package.GRADESCOPE_BUILD_ALLOWANCE
         self.assertLess(limit, package.GRADESCOPE_CUTOFF)
         started = time.monotonic()

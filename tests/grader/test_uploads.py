@@ -33,13 +33,14 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parents[1]
 sys.path.insert(0, str(HERE))
-import grade  # noqa: E402  (the scripts under test)
+import building  # noqa: E402  (the scripts under test)
 import package  # noqa: E402
+import progress  # noqa: E402
 import test_grader  # noqa: E402  (grading a submission folder, reading grade.py's output)
 import test_packages  # noqa: E402  (scores from a results.json)
 
 TASKS = package.TASKS
-TASK_FILE = package.grade.TASK_FILE  # <task>.cpp, or <task>.c for a C task
+TASK_FILE = progress.TASK_FILE  # <task>.cpp, or <task>.c for a C task
 CAP = package.SUBMITTED_FILE_CAP
 SECRET = b"SECRET-OUTSIDE-THE-UPLOAD"  # in every file outside the upload that a link points to
 CASE_SECONDS = 20  # the most one upload may take to look through (they take well under a second)
@@ -145,7 +146,7 @@ class Upload:
             if looked_at:
                 self.must_find.add(task)
         elif looked_at:
-            self.reasons[task].add(grade.TOO_LARGE)
+            self.reasons[task].add(building.TOO_LARGE)
 
     def add_folder(self):
         task = self.rng.choice(TASKS)
@@ -154,7 +155,7 @@ class Upload:
             return
         path.mkdir()
         self.count("folder named like a task file")
-        self.reasons[task].add(grade.FOLDER)
+        self.reasons[task].add(building.FOLDER)
         if self.rng.random() < 0.3:  # with the task's file inside: that one counts
             data = self.content(task)
             (path / TASK_FILE[task]).write_bytes(data)
@@ -178,7 +179,7 @@ class Upload:
                         "dangling": self.outside / "nothing-here", "itself": path,
                         "upload file": self.folder / "elsewhere.txt"}.get(target, target), path)
         if looked_at:
-            self.reasons[task].add(grade.LINK)
+            self.reasons[task].add(building.LINK)
 
     def add_folder_link(self):
         """A folder `tasks` that is a link to a folder outside, which holds task files."""
@@ -202,7 +203,7 @@ class Upload:
         else:
             os.mkfifo(path)
         if kind != "fifo archive":
-            self.reasons[task].add(grade.SPECIAL)
+            self.reasons[task].add(building.SPECIAL)
 
     def add_odd_file(self):
         name = self.rng.choice(["notes\n.txt", "\udcff\udcfe.bin", "-rf", " ", "a" * 255, "propagate.cpp.orig",
@@ -240,8 +241,8 @@ class Upload:
             if intact:
                 self.must_find.add(task)
         elif intact:
-            self.reasons[task].add({"dir": grade.FOLDER, "link": grade.LINK, "huge": grade.TOO_LARGE,
-                                    "special": grade.SPECIAL}[kind])
+            self.reasons[task].add({"dir": building.FOLDER, "link": building.LINK, "huge": building.TOO_LARGE,
+                                    "special": building.SPECIAL}[kind])
 
     def add_zip(self):
         entries = self.archive_entries()
@@ -452,26 +453,26 @@ class StageSubmission(unittest.TestCase):
                  "link to /dev/urandom": "/dev/urandom", "link to a file inside": folder / "inside.txt"}
         if kind in links:
             os.symlink(links[kind], path)
-            return grade.LINK
+            return building.LINK
         if kind == "missing":
             return None
         if kind.startswith("folder"):
             path.mkdir()
             if kind == "folder with the file":
                 (path / TASK_FILE[task]).write_bytes(solution(task))
-            return grade.FOLDER
+            return building.FOLDER
         if kind == "fifo":
             os.mkfifo(path)
-            return grade.SPECIAL
+            return building.SPECIAL
         if kind == "socket":
             with socket.socket(socket.AF_UNIX) as server:
                 server.bind(str(path))
-            return grade.SPECIAL
+            return building.SPECIAL
         if kind in {"cap", "over cap", "huge"}:
             with open(path, "wb") as file:
                 file.write(b"// sized\n")
                 file.truncate({"cap": CAP, "over cap": CAP + 1, "huge": 50 * CAP}[kind])
-            return path.read_bytes() if kind == "cap" else grade.TOO_LARGE
+            return path.read_bytes() if kind == "cap" else building.TOO_LARGE
         data = {"text": f"// {task} {rng.random()}\n".encode(), "empty": b"", "binary": rng.randbytes(3000)}[kind]
         path.write_bytes(data)
         return data
@@ -494,7 +495,7 @@ class StageSubmission(unittest.TestCase):
                     expected[task] = self.make(rng, folder, outside, task, kind)
                 started = time.monotonic()
                 with endless_stdin():
-                    staged, problems = grade.stage_submission(folder, grading)
+                    staged, problems = building.stage_submission(folder, grading)
                 slowest = max(slowest, time.monotonic() - started)
                 for task in TASKS:
                     target = staged / TASK_FILE[task]
@@ -641,8 +642,8 @@ class EndToEnd(unittest.TestCase):
         self.assertLess(elapsed - test_grader.own_build_seconds(output), package.PLATFORM_TOTAL)
         unreadable = {"init_billiard", "init_velocities", "visualize_table", "propagate"}
         self.check_scores(scores, set(TASKS) - unreadable, report)
-        for task, reason in [("init_billiard", grade.LINK), ("init_velocities", grade.FOLDER),
-                             ("visualize_table", grade.TOO_LARGE), ("propagate", grade.SPECIAL)]:
+        for task, reason in [("init_billiard", building.LINK), ("init_velocities", building.FOLDER),
+                             ("visualize_table", building.TOO_LARGE), ("propagate", building.SPECIAL)]:
             self.assertIn(reason, self.builds_message(report, task))
 
 
