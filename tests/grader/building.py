@@ -292,39 +292,37 @@ class Symbols:
         path = done.stdout.strip()
         return path if os.path.isabs(path) and os.path.exists(path) else None
 
-    def problems(self, task, symbols, names):
+    def problems(self, task, symbols, demangle):
         """What is wrong with the names a task file defines (symbols: [(name, kind)] as nm lists
-        them, names: the same demangled): one line each, or [] when nothing is."""
-        problems = []
-        readable = dict(zip([name for name, _ in symbols], [name for name, _ in names])) if len(names) == len(symbols) \
-            else {}
+        them; demangle: names -> {name: as C++ writes it}): one line each, or [] when nothing is."""
+        refused = []
         for name, kind in symbols:
-            shown = readable.get(name, name)
             why = ""
             if name in self.own.get(task, ()):
                 continue
             if name in ENTRY:
                 why = "main(), the entry of a program: a task file holds the task's functions, and the grader provides main()"
             elif ALLOCATION.match(name):
-                why = f"{shown}, which belongs to the C++ library: a task file does not replace how memory is allocated"
+                why = "{}, which belongs to the C++ library: a task file does not replace how memory is allocated"
             elif GOOGLE_TEST.match(name):
-                why = f"{shown}, a name of GoogleTest, which the grader's tests use"
+                why = "{}, a name of GoogleTest, which the grader's tests use"
             elif name in self.c_library:
-                why = f"{shown}, a function of the C library: a task file does not replace the C library's functions"
+                why = "{}, a function of the C library: a task file does not replace the C library's functions"
             elif kind in WEAK:
                 continue  # an inline function or template, which the linker merges with the others
             elif name in self.cxx_library:
-                why = f"{shown}, which the C++ library defines"
+                why = "{}, which the C++ library defines"
             elif name in self.grader:
-                why = f"{shown}, which the grader's own code defines"
+                why = "{}, which the grader's own code defines"
             else:
                 other = next((t for t, defined in self.reference.items() if t != task and name in defined), None)
                 if other:
-                    why = (f"{shown}, which the reference code of {task_name(other)} defines too: give your helper "
+                    why = (f"{{}}, which the reference code of {task_name(other)} defines too: give your helper "
                            "another name, or make it static or put it in an unnamed namespace")
             if why:
-                problems.append(why)
-        return problems
+                refused.append((name, why))
+        readable = demangle([name for name, _ in refused]) if refused else {}
+        return [why.format(readable.get(name, name)) for name, why in refused]
 
 
 def refused(task, problems):
@@ -449,7 +447,7 @@ class TaskFileCompiler:
         if remembered:
             saved = self.compiled_files.recall(key)
             if saved and all(self.signature(path) == value for path, value in saved[1]["headers"].items()):
-                return self.accept(task, saved[0], saved[1]["symbols"], saved[1]["names"]), 0.0
+                return self.accept(task, saved[0], saved[1]["symbols"]), 0.0
         work = self.cells.new_folder(task, "compile-")
         name = TASK_FILE[task]
         target = work / name
@@ -462,8 +460,7 @@ class TaskFileCompiler:
                          *(PROGRAM_LIBRARIES if program else [])]
         script = shlex.join(compile_words)
         if not program:
-            script += (f" && nm -P -g --defined-only {output_name} > symbols.txt"
-                       f" && nm -P -g -C --defined-only {output_name} > names.txt")
+            script += f" && nm -P -g --defined-only {output_name} > symbols.txt"
         started = time.monotonic()
         try:
             ok, output, timed_out = run_limited(
@@ -478,21 +475,31 @@ class TaskFileCompiler:
             if compiled is None:
                 return does_not_compile(task, source, compiler_messages(output.replace(str(work) + "/", ""))), seconds
             symbols = (read_regular_file(work / "symbols.txt", BUILT_FILE_CAP) or b"").decode(errors="replace")
-            names = (read_regular_file(work / "names.txt", BUILT_FILE_CAP) or b"").decode(errors="replace")
             headers = self.headers(read_regular_file(work / "depends.d", BUILT_FILE_CAP) or b"")
-            self.compiled_files.remember(key, compiled, {"headers": headers, "symbols": symbols, "names": names})
-            return self.accept(task, compiled, symbols, names), seconds
+            self.compiled_files.remember(key, compiled, {"headers": headers, "symbols": symbols})
+            return self.accept(task, compiled, symbols), seconds
         finally:
             shutil.rmtree(work, ignore_errors=True)
 
-    def accept(self, task, compiled, symbols, names):
+    def accept(self, task, compiled, symbols):
         """Puts a compiled file in place unless it defines what it may not; returns the problem."""
         if task not in PROGRAM_TASKS:
-            problems = self.symbols.problems(task, symbol_lines(symbols), symbol_lines(names))
+            problems = self.symbols.problems(task, symbol_lines(symbols), lambda names: self.demangle(task, names))
             if problems:
                 return refused(task, problems)
         self.put(task, compiled)
         return ""
+
+    def demangle(self, task, names):
+        """{name: as C++ writes it}, by c++filt in the task's cell (the names are the submission's)."""
+        work = self.cells.new_folder(task, "names-")
+        try:
+            ok, output, _ = run_limited(self.cells.command(task, [shutil.which("c++filt") or "/usr/bin/c++filt", *names[:100]], directory=work,
+                                                           writes=[work], limits=self.build_limits(30)), timeout=30)
+            lines = output.splitlines()
+            return dict(zip(names, lines)) if ok and len(lines) == len(names[:100]) else {}
+        finally:
+            shutil.rmtree(work, ignore_errors=True)
 
     def headers(self, depends):
         """{path: signature} of every header a compilation read, by the project's own paths."""

@@ -79,7 +79,10 @@ def pool_folder():
 
 class UserIds:
     """User ids for the cells of one grading, each held (a lock file, released when this process
-    ends, however it ends) until release(), so that concurrent gradings never share one."""
+    ends, however it ends) until release(), so that concurrent gradings never share one. An id is
+    cleared (its processes stopped, its files in the shared folders removed) when it is given
+    back, and when taken after a grading that was killed before it could give it back (its lock
+    file says it was in use)."""
 
     def __init__(self, launcher):
         self.launcher = launcher
@@ -90,29 +93,36 @@ class UserIds:
         for uid in range(FIRST_CELL_USER, FIRST_CELL_USER + CELL_USERS):
             if uid in self.held:
                 continue
-            lock = open(folder / f"{uid}.lock", "w")
+            lock = open(folder / f"{uid}.lock", "a+")
             try:
                 fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except OSError:
                 lock.close()
                 continue
+            lock.seek(0)
+            if lock.read():  # left in use by a grading that was killed
+                clear_user(self.launcher, uid)
+            lock.truncate(0)
+            lock.write("in use\n")
+            lock.flush()
             self.held[uid] = lock
-            clear_user(self.launcher, uid)  # whatever a grading that was killed left behind
             return uid
         raise RuntimeError("every user id of the grader's pool is in use")
 
     def release(self):
         for uid, lock in self.held.items():
             clear_user(self.launcher, uid)
+            lock.truncate(0)
             lock.close()
         self.held = {}
 
 
-def clear_user(launcher, uid):
-    """Stops every process of user `uid` and removes its files from the shared folders."""
+def clear_user(launcher, uid, files=True):
+    """Stops every process of user `uid` and (with `files`) removes its files from the shared
+    folders."""
     subprocess.run([str(launcher), "--user", str(uid), "--kill-all"], stdin=subprocess.DEVNULL,
                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=60)
-    for shared in SHARED_FOLDERS:
+    for shared in SHARED_FOLDERS if files else []:
         try:
             entries = list(os.scandir(shared))
         except OSError:
@@ -257,9 +267,10 @@ class Cells:
         return command(self.launcher, program, uid=uid, limits=limits, **options)
 
     def stop(self, role):
-        """Stops every process of a task's cell (as root; otherwise each process is stopped alone)."""
+        """Stops every process of a task's cell (as root; otherwise each process is stopped alone);
+        its files in the shared folders go when the grading ends."""
         if self.uid(role) is not None:
-            clear_user(self.launcher, self.uid(role))
+            clear_user(self.launcher, self.uid(role), files=False)
 
     def close(self):
         if self.ids is not None:

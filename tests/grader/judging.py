@@ -48,9 +48,14 @@ WORKER_MEMORY = 2 << 30
 WORKER_FILE_BYTES = 64 << 20
 WORKER_OPEN_FILES = 64
 WORKER_PROCESSES = 256  # processes and threads of a task's cell (its tests run side by side)
+# What a worker may keep in its folder (a movie's picture has some hundred kilobytes), looked at
+# twice a second: a test that writes more is stopped.
+WORKER_DISK_BYTES = 256 << 20
+WORKER_DISK_ENTRIES = 10_000
 SERVER_CPU_SECONDS = 600  # a backstop for a judge's own computing: its tests have their own limits
 PRINTED_CAP = 2000  # characters of what the student's code printed, shown with a test's message
-# How a judge says that its worker ended during a call (tests/grader/judge/proxy.cpp).
+# The judges' proxies, and how they say that a worker ended during a call.
+PROXY = "tests/grader/judge/proxy.cpp"
 WORKER_GONE = "the process running your code ended during the call"
 
 SIGNAL_HINTS = {
@@ -173,11 +178,18 @@ class Programs:
                        if any(task in PROGRAM_TASKS for task in tasks) else None)
 
     def put(self, source, name):
+        """The grader's own program in bin/judge/: a link to the build's file where they share a
+        file system (a judge has megabytes), else a copy; executable, and readable by the grader
+        alone."""
         folder = self.cells.bin / "judge"
         folder.mkdir(exist_ok=True)
         os.chmod(folder, 0o711)
         target = folder / name
-        shutil.copyfile(source, target)
+        target.unlink(missing_ok=True)
+        try:
+            os.link(source, target)
+        except OSError:
+            shutil.copyfile(source, target)
         os.chmod(target, 0o711)
         return target
 
@@ -230,11 +242,13 @@ class TestServer:
         os.set_blocking(self.output, False)
         self.alive = True
 
-    def run(self, name, folder, cpu_limit, wall_limit, variables, worker, worker_output, channel):
-        """Runs one test (see --serve) within its limits, with `worker` (a process started for it,
-        its output on `worker_output`) at the other end of `channel`. Returns a Run."""
+    def run(self, name, folder, cpu_limit, wall_limit, variables, worker, worker_output, channel, work):
+        """Runs one test (see --serve) within its limits, with `worker` (a process started for it
+        in the folder `work`, its output on `worker_output`) at the other end of `channel`.
+        Returns a Run."""
         run = Run()
         started = time.monotonic()
+        looked = started
         judge_output, printed = bytearray(), bytearray()
         pid, deadline = None, None
         delays = {}  # pid -> seconds it waited for a processor
@@ -281,7 +295,10 @@ class TestServer:
             spent = (cpu_seconds(pid) if pid else 0.0) + cpu_seconds(worker.pid)
             elapsed = time.monotonic() - started - sum(delays.values())
             left = min(cpu_limit - spent, wall_limit - elapsed)
-            if left <= 0 and not run.stopped:
+            if time.monotonic() - looked > 0.5 and not run.stopped:
+                looked = time.monotonic()
+                run.too_much_written = too_much_written(work)
+            if (left <= 0 or run.too_much_written) and not run.stopped:
                 run.stopped = True
                 if pid:
                     kill_process_group(pid)
@@ -361,12 +378,36 @@ class Run:
     judge_cpu = 0.0
     worker_cpu = 0.0
     worker_status = None  # the worker's exit status, as Popen gives it
-    stopped = False      # at a time limit
+    stopped = False      # at a time limit, or for writing too much
+    too_much_written = False
     seconds = 0.0        # wall time less the time spent waiting for a processor
     dropped = 0          # bytes of the judge's output dropped
     printed_dropped = 0  # bytes of what the student's code printed dropped
     judge_output = b""
     printed = b""        # what the student's code printed
+
+
+def too_much_written(folder):
+    """Whether a worker's folder holds more than it may (WORKER_DISK_BYTES or WORKER_DISK_ENTRIES),
+    counting only until it does."""
+    total, entries, waiting = 0, 0, [folder]
+    while waiting:
+        try:
+            listing = list(os.scandir(waiting.pop()))
+        except OSError:
+            continue
+        for entry in listing:
+            entries += 1
+            try:
+                if entry.is_dir(follow_symlinks=False):
+                    waiting.append(entry.path)
+                else:
+                    total += entry.stat(follow_symlinks=False).st_size
+            except OSError:
+                pass
+            if total > WORKER_DISK_BYTES or entries > WORKER_DISK_ENTRIES:
+                return True
+    return False
 
 
 def worker_exit(pid):
@@ -441,7 +482,7 @@ def run_test(test, programs, servers, processes, cpu_limit, wall_limit, why, clo
     os.set_blocking(output, False)
     try:
         server = servers.get(test.task)
-        run = server.run(test.name, judged.name, cpu_limit, wall_limit, variables, worker, output, channel)
+        run = server.run(test.name, judged.name, cpu_limit, wall_limit, variables, worker, output, channel, work)
     finally:
         channel.close()
         os.close(output)
@@ -450,8 +491,8 @@ def run_test(test, programs, servers, processes, cpu_limit, wall_limit, why, clo
     test.cpu_seconds = run.judge_cpu + run.worker_cpu
     test.passed = not run.stopped and run.status == 0 and run.verdict == "passed"
     # Stopped by the kernel for its CPU time (several busy threads) is not finishing either.
-    test.unfinished = run.stopped or (run.worker_status in (-signal.SIGXCPU, -signal.SIGKILL)
-                                      and run.worker_cpu >= cpu_limit)
+    test.unfinished = (run.stopped and not run.too_much_written) or (
+        run.worker_status in (-signal.SIGXCPU, -signal.SIGKILL) and run.worker_cpu >= cpu_limit)
     test.feedback = cap(feedback(test, run, cpu_limit, why, clock), FEEDBACK_CAP)
     test.picture = keep_picture(test, judged, cells.root)
     shutil.rmtree(judged, ignore_errors=True)
@@ -465,7 +506,10 @@ def feedback(test, run, cpu_limit, why, clock):
     if run.dropped:
         messages += f"\n... ({run.dropped} more bytes of output were dropped)"
     lead = ""
-    if test.unfinished:
+    if run.too_much_written:
+        lead = (f"Your code wrote more than {WORKER_DISK_BYTES >> 20} MB, or more than {WORKER_DISK_ENTRIES:,} files, "
+                "into its folder, and the test was stopped. A task writes one picture of some kilobytes at most.")
+    elif test.unfinished:
         lead = unfinished_message(clock, test.name, cpu_limit, why)
     elif WORKER_GONE in messages and run.worker_status is not None:
         if run.worker_status < 0:
@@ -543,7 +587,7 @@ def gtest_messages(text):
     # A call whose worker ended fails with the proxy's message (its place in the proxy says nothing
     # to a student), and GoogleTest adds a line for the exception that ends the test.
     text = re.sub(r"unknown file: Failure\nUnknown C\+\+ exception thrown in the test body\.\n?", "", text)
-    text = re.sub(r"^\S*tests/grader/judge/proxy\.cpp:\d+: Failure\nFailed\n\n?", "", text, flags=re.MULTILINE)
+    text = re.sub(rf"^\S*{re.escape(PROXY)}:\d+: Failure\nFailed\n\n?", "", text, flags=re.MULTILINE)
     lines = [line for line in text.splitlines() if not line.startswith(noise)]
     while lines and not lines[-1].strip():
         lines.pop()

@@ -136,7 +136,7 @@ class TaskProgress:
 
     def state(self):
         if self.problem:
-            return "does not build (see above)"
+            return "was not tested (see above why)"
         if self.passes:
             return f"passes all {self.tests} tests" if self.tests > 1 else "passes its test"
         if self.missing == self.task:
@@ -155,7 +155,8 @@ def next_step(progress, other_failing=(), waiting=0):
             continue
         task = item.task
         if item.problem:
-            first = f"Next: {task_name(task)} does not build: fix the first error above in tasks/{TASK_FILE[task]}"
+            first = (f"Next: {task_name(task)} was not tested: fix what the message above says in "
+                     f"tasks/{TASK_FILE[task]}")
         elif item.missing:
             task = item.missing
             first = f"Next: write {task_name(task)} in tasks/{TASK_FILE[task]}"

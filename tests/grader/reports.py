@@ -112,8 +112,9 @@ def grader_summary(results):
     for result in results:
         if result.score == result.maximum and result.maximum > 0:
             continue
-        if result.problem:
-            why = "does not build (the compiler's message is above)"
+        if result.problem:  # its first line: not submitted, not compiled, not linked, refused
+            first = result.problem.splitlines()[0].rstrip(":")
+            why = first + (" (the whole message is above)" if "\n" in result.problem else "")
         elif task_progress(result).missing == result.task:
             why = "not written (the untouched stub)"
         else:
@@ -221,7 +222,7 @@ def submission_report(results, folder, submission):
         rows.append(f'<tr class="{"lost" if lost else "full"}"><td>{TASK_NUMBER[result.task]}</td>'
                     f"<td>{result.task}{optional}</td><td>{result.score} / {result.maximum}</td></tr>")
         if result.problem:
-            sections.append(f'<section class="test"><h3>{task_name(result.task)} does not build</h3>'
+            sections.append(f'<section class="test"><h3>{task_name(result.task)} was not tested</h3>'
                             f"<pre>{html.escape(result.problem)}</pre></section>")
             continue
         for test in result.tests:
@@ -256,7 +257,7 @@ def junit_xml(results):
             ET.Element("property", name="score", value=f"{result.score}/{result.maximum}"))
         if result.problem:
             case = ET.SubElement(suite, "testcase", classname=result.task, name="builds")
-            ET.SubElement(case, "failure", message="does not build").text = result.problem
+            ET.SubElement(case, "failure", message="not tested").text = result.problem
         for test in result.tests:
             hidden = test.visibility == "hidden"
             # A hidden test shows neither its name nor its suite's (which may name it too).

@@ -14,7 +14,6 @@ import json
 import os
 import re
 import shutil
-import subprocess
 import sys
 import tempfile
 import unittest
@@ -91,8 +90,20 @@ def outputs(report, stdout, results):
     return written
 
 
+def in_use(uid):
+    """Whether a grading holds user id `uid` now (the pool's lock file; cell.UserIds)."""
+    import fcntl
+    try:
+        with open(cell.pool_folder() / f"{uid}.lock", "a") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            return False
+    except OSError:
+        return True
+
+
 def leftovers():
-    """What the cells left: their users' processes, and their files in the shared folders."""
+    """What the cells of gradings that have ended left: their users' processes, and their files
+    in the shared folders (gradings that run beside this test hold their user ids)."""
     first, last = cell.FIRST_CELL_USER, cell.FIRST_CELL_USER + cell.CELL_USERS
     found = []
     for entry in Path("/proc").iterdir():
@@ -100,7 +111,7 @@ def leftovers():
             if entry.name.isdigit():
                 uid = int(re.search(r"^Uid:\s+(\d+)", (entry / "status").read_text(), re.M).group(1))
                 state = re.search(r"^State:\s+(\w)", (entry / "status").read_text(), re.M).group(1)
-                if first <= uid < last and state not in "ZX":
+                if first <= uid < last and state not in "ZX" and not in_use(uid):
                     found.append(f"process {entry.name} of user {uid}")
         except (OSError, AttributeError):
             pass
@@ -108,7 +119,8 @@ def leftovers():
         try:
             for entry in os.scandir(shared):
                 owner = entry.stat(follow_symlinks=False).st_uid
-                if first <= owner < last or "billiard-stash" in entry.name or "billiard-hog" in entry.name:
+                if (first <= owner < last and not in_use(owner)) or "billiard-stash" in entry.name \
+                        or "billiard-hog" in entry.name:
                     found.append(f"{entry.path} of user {owner}")
         except OSError:
             pass
@@ -191,6 +203,7 @@ class Attacks(unittest.TestCase):
                                                 "2", "--task-budget", "30")
         task = task_of(path)
         self.assertEqual(scores[task], 0)
+        self.assertTrue(any("wrote more than" in text for text in written.values()), "the folder's limit stopped it")
         for other in TASKS:
             if other != task:
                 self.assertEqual(scores[other], maxima[other], f"{other} is correct and must keep full points")

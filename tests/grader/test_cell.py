@@ -14,6 +14,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import time
 import unittest
 from pathlib import Path
 
@@ -165,6 +166,11 @@ class UserIds(unittest.TestCase):
     def test_kill_all_stops_every_process_of_the_user(self):
         process = subprocess.Popen([CELL, "--no-landlock", "--user", str(CELL_USER), "--", "/bin/sleep", "60"])
         try:
+            for _ in range(1000):  # until the cell has become that user
+                status = Path(f"/proc/{process.pid}/status").read_text()
+                if f"Uid:\t{CELL_USER}\t" in status:
+                    break
+                time.sleep(0.01)
             subprocess.run([CELL, "--user", str(CELL_USER), "--kill-all"], check=True, timeout=60)
             self.assertEqual(process.wait(timeout=10), -signal.SIGKILL)
         finally:

@@ -395,7 +395,7 @@ class GradesKnownSubmissions(unittest.TestCase):
         self.assertIn(f"Summary: full points in {len(TASKS) - 1} of {len(TASKS)} tasks", output)
         summary = output[output.index("Summary:"):output.index("\nresults:")].strip().splitlines()
         self.assertEqual(len(summary), 2, summary)
-        self.assertIn("propagate: does not build", summary[-1])
+        self.assertIn("propagate: propagate.cpp does not compile (the whole message is above)", summary[-1])
         entry = next(test for test in report["tests"] if test["name"].startswith("propagate:"))
         self.assertIn("nxt", entry["output"])
         self.assertEqual(entry["max_score"], maxima["propagate"])

