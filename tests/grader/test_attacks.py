@@ -64,6 +64,27 @@ def submission(base, attacks):
     return folder
 
 
+def platform_submission(repo, build):
+    """{task file name: text}: a submission for a grading platform's package, with an attack in
+    every task but two (forging a verdict, reading the reference code and the platform's copy of
+    the course, stashing hidden inputs, swapping links), and the reference solutions of the
+    package's course (`repo`, its grader's build `build`) in the other two. Returns it with the
+    tasks attacked."""
+    attacks = {"secret_in_memory": {}, "reads_reference": {"REPO": repo, "BUILD": build}, "operator_new": {},
+               "stash_hidden_inputs": {}, "swapped_link": {"REPO": repo}, "verdict_at_exit": {},
+               "fake_reporter": {}, "expected_output": {}}
+    files = {TASK_FILE[task]: (Path(repo) / "solutions" / TASK_FILE[task]).read_text() for task in TASKS}
+    attacked = []
+    for name, paths in attacks.items():
+        path = attack(name, **paths)
+        if task_of(path) in TASKS:
+            files[path.name] = path.read_text()
+            attacked.append(task_of(path))
+        if path.parent.name.startswith("attack-"):
+            shutil.rmtree(path.parent)
+    return files, attacked
+
+
 def secrets():
     """Pieces of text that must never reach an output: lines of the reference solutions and of the
     hidden tests that no file a student has holds, and the hidden tests' names."""

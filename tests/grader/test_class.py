@@ -176,7 +176,7 @@ class Layouts(unittest.TestCase):
 
 
 class OnACluster(unittest.TestCase):
-    def test_a_class_on_two_workers_resumes_and_equals_each_student_alone(self):
+    def test_a_class_on_two_workers_resumes_and_reports(self):
         from distributed import LocalCluster
         students = the_class()
         folder = WORK / "class-folders"
@@ -203,66 +203,31 @@ class OnACluster(unittest.TestCase):
         self.assertGreaterEqual(len(kept), 6, output)
         self.assertLess(len(kept), distinct, output)
 
-        # Run again on a cluster the test starts: only the rest is graded.
+        # Run again on a cluster the test starts: only the rest is graded, and a worker killed
+        # part-way is started again by Dask, which grades its student elsewhere.
         with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
-            status, output = run_class(folder, results, "--client", cluster.scheduler_address)
-            self.assertEqual(status, 0, output[-5000:])
+            process = run_class(folder, results, "--client", cluster.scheduler_address, wait=False)
+            self.kill_a_worker_once_grading(cluster, records, process, after=len(list(records.glob("*/records/*.json"))))
+            output = process.communicate(timeout=1800)[0]
+            self.assertEqual(process.returncode, 0, output[-5000:])
             self.assertEqual(int(re.search(r"\((\d+) different task files\)", output)[1]), distinct - len(kept),
                              output[:2000])
-            points = gradebook(results)
-            self.assertEqual(sorted(points), sorted(students))
-
-            # The same class in the other layouts, graded on the same cluster: the same points. In
-            # the last one a worker is killed part-way: Dask starts it again and grades its student
-            # elsewhere, and the class is graded all the same.
-            for layout in ["gradescope", "autolab", "classroom"]:
-                names = write_layout(layout, students, WORK / f"class-{layout}")
-                source = next((WORK / f"class-{layout}").iterdir()) if layout == "gradescope" else WORK / f"class-{layout}"
-                shutil.rmtree(WORK / f"results-{layout}", ignore_errors=True)
-                if layout == "classroom":
-                    process = run_class(source, WORK / f"results-{layout}", "--client", cluster.scheduler_address,
-                                        wait=False)
-                    self.kill_a_worker_once_grading(cluster, WORK / f"results-{layout}" / "students", process)
-                    output = process.communicate(timeout=1800)[0]
-                    status = process.returncode
-                else:
-                    status, output = run_class(source, WORK / f"results-{layout}", "--client", cluster.scheduler_address)
-                self.assertEqual(status, 0, output[-5000:])
-                self.assertEqual({names[name]: value for name, value in gradebook(WORK / f"results-{layout}").items()},
-                                 points, layout)
+        points = gradebook(results)
+        self.assertEqual(sorted(points), sorted(students))
+        self.assertEqual(points["reference"], {task: max(row[task] for row in points.values()) for task in GRADED})
+        self.assertEqual(set(points["stubs"].values()), {0})
+        for task in MUTATED:  # every mutant costs points in its own task only
+            for student, row in points.items():
+                if student.startswith(f"{task}-"):
+                    self.assertLess(row[task], points["reference"][task], student)
+                    self.assertEqual({t: row[t] for t in MUTATED if t != task},
+                                     {t: points["reference"][t] for t in MUTATED if t != task}, student)
+        (WORK / "points.json").write_text(json.dumps(points))  # for SameAsAlone, when it runs
 
         # A finished class: a run again grades nobody.
         status, output = run_class(folder, results, "--workers", "2")
         self.assertEqual(status, 0, output)
         self.assertIn(f"{len(students)} up to date, 0 to grade (0 different task files)", output)
-
-        # Each student graded alone, as the platforms grade one submission: the same points. (In
-        # propagate only those whose file is not the reference's: the others' class points there
-        # must be the reference student's, and grading that file again would only repeat it.)
-        submission = WORK / "alone" / "submission"
-        reference_drawn = (REPO / "solutions" / TASK_FILE[DRAWN]).read_bytes()
-        for student, files in sorted(students.items()):
-            tasks = MUTATED + ([DRAWN] if student == "reference" or files.get(TASK_FILE[DRAWN]) != reference_drawn else [])
-            shutil.rmtree(submission.parent, ignore_errors=True)
-            submission.mkdir(parents=True)
-            for task in package.TASKS:
-                (submission / TASK_FILE[task]).write_bytes(files.get(TASK_FILE[task])
-                                                           or (REPO / "tasks" / TASK_FILE[task]).read_bytes())
-            command = ["/usr/bin/python3", str(HERE / "grade.py"), "--submission", str(submission), "--results",
-                       str(submission.parent / "results"), "--build", str(WORK / "alone-build"),
-                       *grade_class.grading_options(tasks)]
-            if os.geteuid() == 0:
-                command.append("--protect-reference")
-            status, output = run(command, timeout=900)
-            self.assertEqual(status, 0, output[-3000:])
-            report = json.loads((submission.parent / "results" / "results.json").read_text())
-            alone = {task: sum(test["score"] for test in report["tests"] if test["name"].startswith(task + ":"))
-                     for task in tasks}
-            self.assertEqual(alone, {task: points[student][task] for task in tasks}, student)
-            if DRAWN not in tasks:
-                self.assertEqual(points[student][DRAWN], points["reference"][DRAWN], student)
-        self.assertEqual(points["reference"], {task: max(row[task] for row in points.values()) for task in GRADED})
-        self.assertEqual(set(points["stubs"].values()), {0})
 
         # The instructor's files: every student's results, the tests' table and the report.
         for student in students:
@@ -292,11 +257,13 @@ class OnACluster(unittest.TestCase):
         self.assertTrue(all((results / link).is_file() for link in links), links)
         self.check_drawn(results / "report.html")
 
-    def kill_a_worker_once_grading(self, cluster, records, process):
-        """Kills (SIGKILL) one of the cluster's worker processes once the run has saved a student."""
+    def kill_a_worker_once_grading(self, cluster, records, process, after=0):
+        """Kills (SIGKILL) one of the cluster's worker processes once the run has saved a student
+        (more than `after` records)."""
         from distributed import Client
         deadline = time.monotonic() + 900
-        while time.monotonic() < deadline and process.poll() is None and not list(records.glob("*/records/*.json")):
+        while time.monotonic() < deadline and process.poll() is None and \
+                len(list(records.glob("*/records/*.json"))) <= after:
             time.sleep(0.2)
         self.assertIsNone(process.poll(), "the run ended before a worker could be killed")
         with Client(cluster.scheduler_address, timeout=30) as client:
@@ -313,6 +280,58 @@ class OnACluster(unittest.TestCase):
         self.assertGreater(counts.get(green, 0), 2000, "the figures of the totals and tasks are not drawn")
         self.assertGreater(counts.get(red, 0), 2000, "the figure of the most-failed tests is not drawn")
         self.assertGreater(len(counts), 50, "the page is (nearly) blank")
+
+
+class SameAsAlone(unittest.TestCase):
+    """The class of OnACluster in the other layouts, graded on a cluster of two workers, gives the
+    same points as in the folders layout; and so does each student graded alone, as the platforms
+    grade one submission (label platforms: some minutes; the points of OnACluster's run, where it
+    ran in this build folder)."""
+
+    def test_every_layout_and_each_student_alone_give_the_class_points(self):
+        from distributed import LocalCluster
+        students = the_class()
+        saved = WORK / "points.json"
+        if not saved.is_file():  # OnACluster has not run in this build folder: the folders layout here
+            write_layout("folders", students, WORK / "class-folders")
+            status, output = run_class(WORK / "class-folders", WORK / "results-folders", "--workers", "2")
+            self.assertEqual(status, 0, output[-5000:])
+            saved.write_text(json.dumps(gradebook(WORK / "results-folders")))
+        points = json.loads(saved.read_text())
+        with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
+            for layout in ["gradescope", "autolab", "classroom"]:
+                names = write_layout(layout, students, WORK / f"class-{layout}")
+                source = next((WORK / f"class-{layout}").iterdir()) if layout == "gradescope" else WORK / f"class-{layout}"
+                shutil.rmtree(WORK / f"results-{layout}", ignore_errors=True)
+                status, output = run_class(source, WORK / f"results-{layout}", "--client", cluster.scheduler_address)
+                self.assertEqual(status, 0, output[-5000:])
+                self.assertEqual({names[name]: value for name, value in gradebook(WORK / f"results-{layout}").items()},
+                                 points, layout)
+        # Each student graded alone. (In propagate only those whose file is not the reference's: the
+        # others' class points there must be the reference student's, and grading that file again
+        # would only repeat it.)
+        submission = WORK / "alone" / "submission"
+        reference_drawn = (REPO / "solutions" / TASK_FILE[DRAWN]).read_bytes()
+        for student, files in sorted(students.items()):
+            tasks = MUTATED + ([DRAWN] if student == "reference" or files.get(TASK_FILE[DRAWN]) != reference_drawn else [])
+            shutil.rmtree(submission.parent, ignore_errors=True)
+            submission.mkdir(parents=True)
+            for task in package.TASKS:
+                (submission / TASK_FILE[task]).write_bytes(files.get(TASK_FILE[task])
+                                                           or (REPO / "tasks" / TASK_FILE[task]).read_bytes())
+            command = ["/usr/bin/python3", str(HERE / "grade.py"), "--submission", str(submission), "--results",
+                       str(submission.parent / "results"), "--build", str(WORK / "alone-build"),
+                       *grade_class.grading_options(tasks)]
+            if os.geteuid() == 0:
+                command.append("--protect-reference")
+            status, output = run(command, timeout=900)
+            self.assertEqual(status, 0, output[-3000:])
+            report = json.loads((submission.parent / "results" / "results.json").read_text())
+            alone = {task: sum(test["score"] for test in report["tests"] if test["name"].startswith(task + ":"))
+                     for task in tasks}
+            self.assertEqual(alone, {task: points[student][task] for task in tasks}, student)
+            if DRAWN not in tasks:
+                self.assertEqual(points[student][DRAWN], points["reference"][DRAWN], student)
 
 
 class Hostile(unittest.TestCase):

@@ -810,6 +810,23 @@ class Gradescope(unittest.TestCase):
             if task != "propagate":
                 self.assertEqual(scores[task], maxima()[task], f"{task}\n{output[-3000:]}")
 
+    def test_the_hostile_suite_gains_nothing(self):
+        # Gradescope grades as root: the attacks score 0, the tasks beside them keep full points,
+        # and no output shows anything of the reference code or the hidden tests.
+        import test_attacks
+        root = self.autograder()
+        files, attacked = test_attacks.platform_submission(root / "source", root / "source" / "build" / "grade" / "build")
+        report, output = self.run_autograder(root, {f"tasks/{name}": text for name, text in files.items()})
+        scores = scores_of(report)
+        for task in TASKS:
+            self.assertEqual(scores[task], 0 if task in attacked else maxima()[task], f"{task}\n{output[-3000:]}")
+        texts = {"results.json": json.dumps(report), "output": output}
+        for where, text in texts.items():
+            for secret in test_attacks.secrets():
+                self.assertNotIn(secret, text, f"{where} shows '{secret}'")
+            self.assertNotIn("LEAKED:", text)
+        self.assertEqual(test_attacks.leftovers(), [])
+
     def test_correct_code_five_times_slower_keeps_full_points_on_one_core(self):
         # Every task's reference solution made five times slower, graded on one core while the
         # reference solutions are graded again and again on the other core: full points.
@@ -1005,6 +1022,35 @@ class Autolab(unittest.TestCase):
             self.assertNotIn("measuring what the reference solutions need", output, "the image measured them")
             self.assertFalse((job / package.AUTOLAB_FOLDER).exists(), "the job used the image's grader")
             self.assertLess(elapsed, bound)
+
+            # A hostile handin, graded as Autolab grades it, by an unprivileged user beside the
+            # image's course (reference code included), which only Landlock keeps from its cells.
+            import test_attacks
+            files, attacked = test_attacks.platform_submission(folder, folder / "build" / "grade" / "build")
+            with zipfile.ZipFile(handin, "w") as archive:
+                for name, text in files.items():
+                    archive.writestr(f"tasks/{name}", text)
+            shutil.rmtree(job)
+            job.mkdir()
+            os.chmod(job, 0o777)
+            for name in ["autograde-Makefile", "autograde.tar"]:
+                shutil.copyfile(package_folder / name, job / ("Makefile" if name.endswith("Makefile") else name))
+            shutil.copyfile(handin, job / "handin.tar")
+            done = subprocess.run(["make", f"BILLIARD_GRADER={folder}"], cwd=job, stdout=subprocess.PIPE,
+                                  stderr=subprocess.STDOUT, text=True, env=environment(), timeout=600, **user)
+            output = done.stdout
+            self.assertEqual(done.returncode, 0, output)
+            scores = json.loads(output.rstrip("\n").splitlines()[-1])["scores"]
+            landlock = "Landlock ABI" in output
+            for task in TASKS:
+                if task in attacked:
+                    self.assertEqual(scores[task], 0, f"{task}\n{output[-3000:]}")
+                elif landlock or not user:
+                    self.assertEqual(scores[task], maxima()[task], f"{task}\n{output[-3000:]}")
+            if landlock or not user:  # without Landlock, an unprivileged job's cells can read the image
+                for secret in test_attacks.secrets():
+                    self.assertNotIn(secret, output, f"the feedback shows '{secret}'")
+            self.assertNotIn("LEAKED:", output)
         finally:
             shutil.rmtree(image, ignore_errors=True)
 
