@@ -29,7 +29,7 @@ from pathlib import Path
 import cell
 import time_limits
 from cell import Limits, read_regular_file, run_limited
-from progress import PROGRAM_TASKS, TASK_FILE, TASK_FUNCTIONS, TASKS, task_name
+from course import PROGRAM_TASKS, TASK_FILE, TASK_FUNCTIONS, TASKS, task_name
 from reports import TaskResult, TestResult, cap
 
 REPO = Path(__file__).resolve().parents[2]

@@ -44,7 +44,7 @@ import cell
 import time_limits
 from building import REPO, Build, TaskFileCompiler, build_suites, stage_submission
 from judging import ResultCache, place_pictures, run_tests
-from progress import TASK_FILE, TASKS
+from course import TASK_FILE, TASKS
 from reports import gradescope_results, junit_xml, print_table, submission_report, task_records, write_atomically
 from time_limits import TaskClock, fixed_limits, measured_limits
 

@@ -31,7 +31,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parents[1]
 sys.path.insert(0, str(HERE))
-from progress import TASK_FILE, TASKS  # noqa: E402
+from course import TASK_FILE, TASKS  # noqa: E402
 from time_limits import machine  # noqa: E402
 
 

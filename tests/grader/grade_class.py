@@ -71,7 +71,7 @@ import building
 import grade
 import reports
 import package
-from progress import NOT_WRITTEN, OPTIONAL, TASK_FILE, TASK_NUMBER, TASKS
+from course import NOT_WRITTEN, OPTIONAL, TASK_FILE, TASK_NUMBER, TASKS
 
 REPO = building.REPO
 DEFAULT_RESULTS = REPO / "build" / "grade" / "class"

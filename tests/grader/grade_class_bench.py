@@ -28,7 +28,7 @@ sys.path.insert(0, str(HERE))
 import grade_class  # noqa: E402
 import package  # noqa: E402
 import test_class  # noqa: E402
-from progress import TASK_FILE, TASKS  # noqa: E402
+from course import TASK_FILE, TASKS  # noqa: E402
 
 
 def timed(command):

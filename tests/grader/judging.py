@@ -36,7 +36,7 @@ from pathlib import Path
 
 from building import REPO, file_digest
 from cell import Limits, read_regular_file
-from progress import PROGRAM_TASKS, task_name
+from course import PROGRAM_TASKS, task_name
 from reports import FEEDBACK_CAP, PICTURE_LINE, PICTURES, cap
 from time_limits import not_run_message, unfinished_message
 

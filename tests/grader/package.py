@@ -47,9 +47,9 @@ HERE = Path(__file__).resolve().parent
 REPO = HERE.parents[1]
 sys.path.insert(0, str(HERE))
 import building  # noqa: E402  (how a task file is read)
-import progress  # noqa: E402  (the course's tasks)
+import course  # noqa: E402  (the course's tasks)
 
-TASKS = progress.TASKS
+TASKS = course.TASKS
 GRADE = "tests/grader/grade.py"
 WORKFLOW = ".github/workflows/classroom.yml"
 
@@ -222,7 +222,7 @@ def classroom_workflow(points):
         "      uses: actions/checkout@v4",
     ]
     for task in TASKS:
-        name = f"Task {progress.TASK_NUMBER[task]} {task}" + (" (optional)" if progress.is_optional(task) else "")
+        name = f"Task {course.TASK_NUMBER[task]} {task}" + (" (optional)" if course.is_optional(task) else "")
         lines += [
             f"    - name: {name}",
             f"      id: {step_id(task)}",
@@ -461,7 +461,7 @@ def find_task_files(places, destination):
     others = 0
     cut_short = []  # archives and folders only partly looked through
 
-    by_file = {progress.TASK_FILE[task]: task for task in TASKS}
+    by_file = {course.TASK_FILE[task]: task for task in TASKS}
 
     def task_of(parts):
         name = parts[-1] if parts else ""
@@ -592,19 +592,19 @@ def find_task_files(places, destination):
             if len(text) > SUBMITTED_FILE_CAP:
                 passed_over[task].append(f"{shown(where)} {building.TOO_LARGE}")
                 continue
-            (destination / progress.TASK_FILE[task]).write_bytes(text)
+            (destination / course.TASK_FILE[task]).write_bytes(text)
             chosen = where
             break
         skipped = [shown(where) for _, where, _ in candidates[task] if where != chosen]
         if chosen is None:
             # grade.py needs every file to configure its build: the course's untouched stub
             # stands in, so the task scores 0 with "not implemented yet".
-            shutil.copyfile(REPO / "tasks" / progress.TASK_FILE[task], destination / progress.TASK_FILE[task])
+            shutil.copyfile(REPO / "tasks" / course.TASK_FILE[task], destination / course.TASK_FILE[task])
             missing = "no file of this name that can be graded" if passed_over[task] else "not found in your submission"
-            notes.append(f"  {progress.TASK_FILE[task]}: {missing}, graded as not implemented (0 points)")
+            notes.append(f"  {course.TASK_FILE[task]}: {missing}, graded as not implemented (0 points)")
         else:
             found[task] = chosen
-            notes.append(f"  {progress.TASK_FILE[task]}: {shown(chosen)}"
+            notes.append(f"  {course.TASK_FILE[task]}: {shown(chosen)}"
                          + (f" (also found, not graded: {', '.join(skipped)})" if skipped else ""))
         for line in passed_over[task]:
             notes.append(f"    not graded: {line}")
@@ -720,7 +720,7 @@ def command_autolab(arguments):
           f"{out / 'autograding-image.sh'}")
     print("Autolab problems (names and maximum scores):")
     for task in TASKS:
-        print(f"  {task}  {points[task]}" + ("  (optional: extra credit)" if progress.is_optional(task) else ""))
+        print(f"  {task}  {points[task]}" + ("  (optional: extra credit)" if course.is_optional(task) else ""))
     print(f"Autolab settings: handin file name handin.tar. Autograding image: run autograding-image.sh where it is "
           f"built; then the default autograding timeout of {AUTOLAB_DEFAULT_TIMEOUT} s is enough. Without it, set "
           f"the timeout to {AUTOLAB_TIMEOUT} s (the most Autolab allows).")
@@ -793,8 +793,8 @@ def students_text(markdown):
 
 def stages_off_files():
     """The files of the stages course.txt switches off: left out of the student release."""
-    return [path for stage in progress.OFF
-            for path in (f"tasks/{progress.TASK_FILE[stage]}", f"tests/graded/test_{stage}.cpp",
+    return [path for stage in course.OFF
+            for path in (f"tasks/{course.TASK_FILE[stage]}", f"tests/graded/test_{stage}.cpp",
                          f"tests/graded/{stage}_support.hpp")]
 
 

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The course's tasks, and where a student stands in them after a run of the tests.
+"""Where a student stands in the course's tasks after a run of the tests.
 
     /usr/bin/python3 tests/grader/progress.py [--counts] JUNIT_XML
 
@@ -11,8 +11,7 @@ failed and were skipped, for a run whose own output was not shown. The grader
 (grade.py) ends its report with the same "Next:" lines. Exit status 0, or 2 for a missing or
 unreadable file.
 
-The tasks come from course.txt next to this file (the six tasks and the extension stages, and
-which of them count); every script of the grader takes them from here.
+The tasks come from the course's catalogue (course.py, which reads course.txt).
 """
 
 import re
@@ -21,77 +20,12 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
 
-COURSE_FILE = Path(__file__).resolve().parent / "course.txt"
-TASKS_FOLDER = Path(__file__).resolve().parents[2] / "tasks"
-STATUSES = ("required", "optional", "off")
-# Tasks 1-6 are the course's core: the `billiard` command, the Python module and the extension
-# stages are built on them, so they stay required, unless the course is the C track alone (every
-# task in C++ off, the program tasks such as particles on).
-CORE_TASKS = 6
+from course import (NOT_WRITTEN, PROGRAM_TASKS, TASK_FILE, TASK_NUMBER, TASKS, is_optional, task_name,
+                    task_with_number)
 
-
-def is_program_task(name):
-    """A task written in C as a whole program (tasks/<name>.c), graded by running it."""
-    return (TASKS_FOLDER / f"{name}.c").is_file()
-
-
-def read_course(path=COURSE_FILE):
-    """[(number, name, status)] from course.txt, in course order; ValueError names a bad line."""
-    course = []
-    for line_number, line in enumerate(path.read_text().splitlines(), start=1):
-        if not line.strip() or line.lstrip().startswith("#"):
-            continue
-        words = line.split()
-        if len(words) != 3 or not words[0].isdigit() or words[2] not in STATUSES:
-            raise ValueError(f"{path.name} line {line_number}: '{line}' is not 'NUMBER NAME required|optional|off'")
-        number, name, status = int(words[0]), words[1], words[2]
-        if number != len(course) + 1:
-            raise ValueError(f"{path.name} line {line_number}: task {number} should be task {len(course) + 1}")
-        course.append((number, name, status, line_number))
-    c_track_alone = all(status == "off" for _, name, status, _ in course if not is_program_task(name))
-    for number, name, status, line_number in course:
-        if number <= CORE_TASKS and status != "required" and not c_track_alone:
-            raise ValueError(f"{path.name} line {line_number}: task {number} ({name}) is one of the six core tasks "
-                             "and must stay required (unless every C++ task is off: the C track alone)")
-    return [(number, name, status) for number, name, status, _ in course]
-
-
-COURSE = read_course()
-TASKS = [name for _, name, status in COURSE if status != "off"]           # built and graded
-# Each task's file: <task>.cpp (functions linked with its graded suite), or <task>.c for a
-# program task (a whole C program with main(), graded by running it; see tests/CMakeLists.txt).
-PROGRAM_TASKS = [name for _, name, _ in COURSE if is_program_task(name)]
-TASK_FILE = {name: f"{name}.c" if name in PROGRAM_TASKS else f"{name}.cpp" for _, name, _ in COURSE}
-OPTIONAL = [name for _, name, status in COURSE if status == "optional"]   # extra credit
-# The extension stages, built on the core in C++ (not the program tasks such as particles).
-STAGES = [name for number, name, status in COURSE
-          if number > CORE_TASKS and status != "off" and name not in PROGRAM_TASKS]
-OFF = [name for _, name, status in COURSE if status == "off"]
-TASK_NUMBER = {name: number for number, name, _ in COURSE}
-# What a student writes in each task's file, for hints.
-TASK_FUNCTIONS = {task: task for task in TASKS} | {
-    "kinetic_energy": "kinetic_energy or correct_energy_drift",
-    "gravity": "propagate_gravity or mean_energy",
-    "walls": "propagate_walls",
-    "sectors": "propagate_sectors",
-} | {task: "main (the whole program)" for task in PROGRAM_TASKS}
-# The course's error for a task that is not written yet (lib/src/course/not_implemented.cpp).
-NOT_WRITTEN = re.compile(r"task (\d+) \(\w+\) is not implemented yet")
 # The lines of a graded test's message for students (tests/support/student_messages.hpp), with
 # the picture of its failing case where it draws one.
 STUDENT_MESSAGE = re.compile(r"(Expected|Your code|Hint|Picture): ")
-
-
-def is_optional(task):
-    return task in OPTIONAL
-
-
-def task_name(task):
-    return f"task {TASK_NUMBER[task]} ({task})"
-
-
-def task_with_number(number):
-    return next((name for name, n in TASK_NUMBER.items() if n == number and name in TASKS), None)
 
 
 def run_command(task):

@@ -21,7 +21,7 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from progress import TASKS  # noqa: E402
+from course import TASKS  # noqa: E402
 
 # Values for the README's placeholders.
 PLACEHOLDERS = {"<task>": "propagate", "<preset>": "tasks", "<notebook>": "01_tour", "<k>": "1"}

@@ -12,7 +12,8 @@ import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 
-from progress import TASK_FILE, TASK_FUNCTIONS, TASK_NUMBER, TASKS, TaskProgress, is_optional, next_step, task_name
+from course import TASK_FILE, TASK_FUNCTIONS, TASK_NUMBER, TASKS, is_optional, task_name
+from progress import TaskProgress, next_step
 from time_limits import used_up
 
 HIDDEN_FEEDBACK = "This test is hidden: its details are not shown."

@@ -24,7 +24,7 @@ REPO = HERE.parents[1]
 sys.path.insert(0, str(HERE))
 import cell  # noqa: E402
 import test_grader  # noqa: E402
-from progress import TASK_FILE, TASKS  # noqa: E402
+from course import TASK_FILE, TASKS  # noqa: E402
 
 ATTACKS = HERE / "hostile" / "attacks"
 

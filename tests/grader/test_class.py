@@ -31,7 +31,7 @@ sys.path.insert(0, str(HERE))
 import browser  # noqa: E402
 import grade_class  # noqa: E402
 import package  # noqa: E402
-from progress import TASK_FILE  # noqa: E402
+from course import TASK_FILE  # noqa: E402
 from test_grader import mutant_source  # noqa: E402
 
 WORK = None  # set from the command line

@@ -25,7 +25,7 @@ REPO = HERE.parents[1]
 sys.path.insert(0, str(HERE))
 import browser  # noqa: E402
 import package  # noqa: E402  (the platforms' time limits)
-import progress  # noqa: E402
+import course  # noqa: E402  (the course's tasks)
 import time_limits  # noqa: E402
 
 TASKS = package.TASKS
@@ -108,7 +108,7 @@ def mutant_source(mutant):
     original lines must occur exactly once in the current reference solution, so a mutant that no
     longer fits the solutions fails loudly instead of testing stale code."""
     task = mutant.parent.name
-    file = progress.TASK_FILE[task]
+    file = course.TASK_FILE[task]
     solution = (REPO / "solutions" / file).read_text()
     blocks = re.findall(r"^<<<<<<< solutions/(\w+\.c(?:pp)?)\n(.*?)^=======\n(.*?)^>>>>>>> mutant\n",
                         mutant.read_text(), re.DOTALL | re.MULTILINE)
@@ -247,7 +247,7 @@ def submission_from_solutions(**replacements):
     """A temporary submission: the reference files, with some replaced by the given files
     (a .mutant file is applied to the reference solution of its task)."""
     folder = Path(tempfile.mkdtemp(prefix="submission-"))
-    files = progress.TASK_FILE
+    files = course.TASK_FILE
     for task in TASKS:
         shutil.copyfile(REPO / "solutions" / files[task], folder / files[task])
     for task, source in replacements.items():
@@ -286,9 +286,9 @@ class GradesKnownSubmissions(unittest.TestCase):
         self.assertEqual(scores, maxima)
         self.assertEqual(sum(int(suite.get("failures")) for suite in junit.iter("testsuite")), 0)
         # The table's total counts the required tasks; the optional stages are shown apart.
-        counted = sum(points for task, points in maxima.items() if not progress.is_optional(task))
+        counted = sum(points for task, points in maxima.items() if not course.is_optional(task))
         self.assertRegex(output, rf"total +{counted} / {counted}\n")
-        optional = sum(points for task, points in maxima.items() if progress.is_optional(task))
+        optional = sum(points for task, points in maxima.items() if course.is_optional(task))
         if optional:
             self.assertRegex(output, rf"optional +{optional} / {optional} +\(extra credit")
         self.assertEqual(report["score"], sum(maxima.values()), "results.json's score includes the extra credit")

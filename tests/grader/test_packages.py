@@ -37,11 +37,11 @@ REPO = HERE.parents[1]
 sys.path.insert(0, str(HERE))
 import package  # noqa: E402  (the script under test, for its lists of tasks and exclusions)
 import release_check  # noqa: E402  (how the release's README is read: its commands and paths)
-import progress  # noqa: E402
+import course  # noqa: E402  (the course's tasks)
 import time_limits  # noqa: E402
 
 TASKS = package.TASKS
-TASK_FILE = progress.TASK_FILE  # <task>.cpp, or <task>.c for a C task
+TASK_FILE = course.TASK_FILE  # <task>.cpp, or <task>.c for a C task
 TESTS = None  # the build's tests/ folder, from the command line
 WORK = None   # TESTS / "package-tests"
 
@@ -403,8 +403,8 @@ class Guides(unittest.TestCase):
         kinds = {"six": 0, "stages": 0, "c": 0}
         for mutant in mutants:
             task = mutant.parent.name
-            kinds["c" if task in progress.PROGRAM_TASKS else "six" if
-                  progress.TASK_NUMBER[task] <= 6 else "stages"] += 1
+            kinds["c" if task in course.PROGRAM_TASKS else "six" if
+                  course.TASK_NUMBER[task] <= 6 else "stages"] += 1
         self.assertIn(f"{len(mutants)} buggy solutions it must catch ({kinds['six']} of the six tasks, "
                       f"{kinds['stages']} of the stages, {kinds['c']} of the C track)", readme)
 
@@ -682,7 +682,7 @@ def endless_loops(task):
     """The stub of a task (tasks/<task>.cpp) with each `throw` replaced by an endless loop (for a C
     task, the stub's `exit(1)` after its "not implemented yet")."""
     stub = (REPO / "tasks" / TASK_FILE[task]).read_text()
-    unwritten = r"exit\(1\);" if task in progress.PROGRAM_TASKS else r"throw NotImplemented\([^;]*\);"
+    unwritten = r"exit\(1\);" if task in course.PROGRAM_TASKS else r"throw NotImplemented\([^;]*\);"
     looping, count = re.subn(unwritten, "for (volatile unsigned spin = 0;; spin = spin + 1) {}", stub)
     assert count >= 1, f"tasks/{TASK_FILE[task]} has no `throw NotImplemented(...)` to replace"
     return looping
@@ -725,7 +725,7 @@ def slow_solution(task):
     """The reference solution of a task made five times slower: each call of the course's
     functions it defines (a C task: the whole program) takes five times its CPU time."""
     source = (REPO / "solutions" / TASK_FILE[task]).read_text()
-    if task in progress.PROGRAM_TASKS:
+    if task in course.PROGRAM_TASKS:
         return (SLOWER_C + source + "\n#undef main\nint main(int argc, char **argv) {\n  slower_start = clock();\n"
                 "  atexit(slower_spin);\n  return slower_main(argc, argv);\n}\n")
     definition = re.compile(rf"^[\w:<>]+[\s&*]+({'|'.join(CONTRACT_FUNCTIONS)})\([^;{{}}]*\)\s*\{{", re.MULTILINE)

@@ -14,6 +14,7 @@ from pathlib import Path
 from xml.sax.saxutils import escape
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import course  # noqa: E402  (the course's tasks)
 import progress  # noqa: E402
 
 STUB = ("task {n} ({task}) is not implemented yet: write it in tasks/{task}.cpp, then run its tests with: "
@@ -21,7 +22,7 @@ STUB = ("task {n} ({task}) is not implemented yet: write it in tasks/{task}.cpp,
 
 
 def stub_message(task):
-    return STUB.format(n=progress.TASK_NUMBER[task], task=task)
+    return STUB.format(n=course.TASK_NUMBER[task], task=task)
 
 
 def junit(cases):
@@ -44,15 +45,15 @@ def block(cases):
 
 class Report(unittest.TestCase):
     def test_stubs_point_to_task_one_in_a_line_per_task_and_four_more(self):
-        cases = [(f"{task}.Suite.Test{k}", "fail", stub_message(task)) for task in progress.TASKS for k in range(3)]
+        cases = [(f"{task}.Suite.Test{k}", "fail", stub_message(task)) for task in course.TASKS for k in range(3)]
         # task 6's second function has its own name in the message, but the same task number
         cases.append(("kinetic_energy.Drift.Test", "fail", stub_message("kinetic_energy").replace(
             "(kinetic_energy)", "(correct_energy_drift)")))
         cases += [("cli.Cli.Run", "skipped", "skipped: " + stub_message("init_billiard")),
                   ("notebooks.01_tour", "skipped", "01_tour.ipynb: skipped: " + stub_message("init_billiard"))]
         lines = block(cases)
-        self.assertLessEqual(len(lines), len(progress.TASKS) + 4, "\n".join(lines))
-        for task in progress.TASKS:
+        self.assertLessEqual(len(lines), len(course.TASKS) + 4, "\n".join(lines))
+        for task in course.TASKS:
             self.assertTrue(any(task in line and "not written yet" in line for line in lines), "\n".join(lines))
         self.assertEqual(lines[-2], "Next: write task 1 (init_billiard) in tasks/init_billiard.cpp")
         self.assertEqual(lines[-1], "  then run: ./build.sh test -L init_billiard")
@@ -90,9 +91,9 @@ class Report(unittest.TestCase):
         self.assertEqual(lines[-1], "  ./build.sh test -R 'notebooks.02_energy_drift'")
 
     def test_everything_passing(self):
-        lines = block([(f"{task}.S.X", "run", "") for task in progress.TASKS] + [("engine.E.X", "run", "")])
+        lines = block([(f"{task}.S.X", "run", "") for task in course.TASKS] + [("engine.E.X", "run", "")])
         self.assertEqual(lines[-1], "Next: nothing; every test passed. Well done.")
-        with mock.patch.object(progress, "OPTIONAL", []):
+        with mock.patch.object(course, "OPTIONAL", []):
             partial = block([("kinetic_energy.S.X", "run", ""), ("kinetic_energy.S.Y", "run", "")])
         self.assertIn("   6 kinetic_energy   passes all 2 tests", partial)
         self.assertEqual(partial[-2:], ["Next: task 7 (gravity) in tasks/gravity.cpp",
@@ -103,11 +104,11 @@ class Report(unittest.TestCase):
         self.assertEqual(lines[-2:], ["Next: task 2 (init_velocities) in tasks/init_velocities.cpp",
                                       "  then run: ./build.sh test -L init_velocities"])
         # The last task passing alone: now the whole run, to see every task pass together.
-        last = progress.TASKS[-1]
+        last = course.TASKS[-1]
         lines = block([(f"{last}.S.X", "run", "")])
         self.assertEqual(lines[-1], "Every task that ran passes. Next: ./build.sh test, to see every task pass together")
         # An optional next task says so.
-        with mock.patch.object(progress, "OPTIONAL", ["gravity"]):
+        with mock.patch.object(course, "OPTIONAL", ["gravity"]):
             lines = block([("kinetic_energy.S.X", "run", "")])
         self.assertEqual(lines[-2], "Next: task 7 (gravity) in tasks/gravity.cpp (optional: extra credit)")
 
@@ -126,10 +127,10 @@ class Report(unittest.TestCase):
 
     def test_an_optional_stage_comes_after_the_six_tasks_and_says_so(self):
         stages = {"gravity": 7, "walls": 8}
-        with mock.patch.object(progress, "TASKS", progress.TASKS[:6] + list(stages)), \
-                mock.patch.object(progress, "OPTIONAL", ["gravity"]), \
-                mock.patch.dict(progress.TASK_NUMBER, stages):
-            done = [(f"{task}.S.X", "run", "") for task in progress.TASKS[:6]]
+        with mock.patch.object(progress, "TASKS", course.TASKS[:6] + list(stages)), \
+                mock.patch.object(course, "OPTIONAL", ["gravity"]), \
+                mock.patch.dict(course.TASK_NUMBER, stages):
+            done = [(f"{task}.S.X", "run", "") for task in course.TASKS[:6]]
             lines = block(done + [("walls.W.X", "fail", stub_message("walls")),
                                   ("gravity.G.X", "fail", stub_message("gravity"))])
             self.assertIn("  7 gravity          not written yet (optional)", lines)
@@ -164,26 +165,26 @@ class Course(unittest.TestCase):
         with tempfile.TemporaryDirectory() as folder:
             path = Path(folder) / "course.txt"
             path.write_text(text)
-            return progress.read_course(path)
+            return course.read_course(path)
 
     def core(self):
-        return "".join(f"{n} {task} required\n" for n, task in enumerate(progress.TASKS[:6], start=1))
+        return "".join(f"{n} {task} required\n" for n, task in enumerate(course.TASKS[:6], start=1))
 
     def test_the_committed_course_has_the_six_tasks_first_then_the_stages(self):
-        names = [name for _, name, _ in progress.COURSE]
+        names = [name for _, name, _ in course.COURSE]
         self.assertEqual(names, ["init_billiard", "init_velocities", "visualize_table", "propagate", "movie",
                                  "kinetic_energy", "gravity", "walls", "sectors", "particles"])
-        self.assertEqual(progress.PROGRAM_TASKS, ["particles"])
-        self.assertEqual(progress.TASK_FILE["particles"], "particles.c")
-        self.assertEqual(progress.TASK_FILE["propagate"], "propagate.cpp")
-        self.assertEqual(progress.TASKS, [name for _, name, status in progress.COURSE if status != "off"])
+        self.assertEqual(course.PROGRAM_TASKS, ["particles"])
+        self.assertEqual(course.TASK_FILE["particles"], "particles.c")
+        self.assertEqual(course.TASK_FILE["propagate"], "propagate.cpp")
+        self.assertEqual(course.TASKS, [name for _, name, status in course.COURSE if status != "off"])
 
     def test_comments_blank_lines_and_statuses(self):
         course = self.read("# a comment\n\n" + self.core() + "7 gravity optional\n8 walls off\n9 sectors required\n")
         self.assertEqual(course[6:], [(7, "gravity", "optional"), (8, "walls", "off"), (9, "sectors", "required")])
 
     def test_the_c_track_alone_switches_every_cpp_task_off(self):
-        names = [name for _, name, _ in progress.COURSE]
+        names = [name for _, name, _ in course.COURSE]
         c_track = "".join(f"{n} {name} {'required' if name == 'particles' else 'off'}\n"
                           for n, name in enumerate(names, start=1))
         self.assertEqual([(name, status) for _, name, status in self.read(c_track) if status != "off"],

@@ -35,12 +35,12 @@ REPO = HERE.parents[1]
 sys.path.insert(0, str(HERE))
 import building  # noqa: E402  (the scripts under test)
 import package  # noqa: E402
-import progress  # noqa: E402
+import course  # noqa: E402  (the course's tasks)
 import test_grader  # noqa: E402  (grading a submission folder, reading grade.py's output)
 import test_packages  # noqa: E402  (scores from a results.json)
 
 TASKS = package.TASKS
-TASK_FILE = progress.TASK_FILE  # <task>.cpp, or <task>.c for a C task
+TASK_FILE = course.TASK_FILE  # <task>.cpp, or <task>.c for a C task
 CAP = package.SUBMITTED_FILE_CAP
 SECRET = b"SECRET-OUTSIDE-THE-UPLOAD"  # in every file outside the upload that a link points to
 CASE_SECONDS = 20  # the most one upload may take to look through (they take well under a second)

@@ -31,7 +31,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from progress import TASK_FILE, TASK_FUNCTIONS
+from course import TASK_FILE, TASK_FUNCTIONS
 
 MARGIN = 10             # limits are this many times what the reference needs on the machine
 MIN_TEST_SECONDS = 2.0  # CPU seconds any test may take: starting a process on a busy machine

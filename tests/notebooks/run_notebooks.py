@@ -35,7 +35,7 @@ from nbclient import NotebookClient
 from nbclient.exceptions import CellExecutionError, CellTimeoutError, DeadKernelError
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "grader"))
-from progress import NOT_WRITTEN  # noqa: E402  (the course's "task N (...) is not implemented yet")
+from course import NOT_WRITTEN  # noqa: E402  (the course's "task N (...) is not implemented yet")
 
 ANSI_ESCAPE = re.compile(r"\x1b\[[0-9;]*[A-Za-z]")
 SKIPPED = 77  # exit status: the notebook waits for a task (CTest's SKIP_RETURN_CODE)

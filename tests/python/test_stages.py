@@ -11,7 +11,7 @@ import pytest
 import billiard
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "grader"))
-import progress  # noqa: E402  (the course's tasks, from course.txt)
+import course  # noqa: E402  (the course's tasks)
 
 R, A, N = 10.0, 1.0, 10
 stages = billiard.stages
@@ -24,7 +24,7 @@ def built(stage):
 
 
 def test_available_follows_the_course_file():
-    assert stages.available == progress.STAGES
+    assert stages.available == course.STAGES
     for stage, function in [("gravity", "propagate_gravity"), ("walls", "propagate_walls"),
                             ("sectors", "propagate_sectors")]:
         assert hasattr(stages, function) == (stage in stages.available)
