@@ -25,6 +25,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parents[1]
 sys.path.insert(0, str(HERE))
+sys.path.insert(0, str(HERE / "tests"))  # the class of its tests
 import grade_class  # noqa: E402
 import package  # noqa: E402
 import test_class  # noqa: E402

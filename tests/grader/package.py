@@ -59,17 +59,11 @@ ALWAYS_EXCLUDED = ["build/", "tests/mutants/"]
 STUDENT_EXCLUDED = [
     "solutions/",                     # the reference solutions
     "tests/graded/hidden/",           # instructor-only tests
-    "tests/grader/hostile/",          # the grader's own tests: a misbehaving submission
-    "tests/grader/test_grader.py",    # ... and the tests that need solutions/ and hostile/
-    "tests/grader/test_attacks.py",   # ... the hostile suite
-    "tests/grader/test_uploads.py",   # ... and the fuzzing of uploads (needs solutions/)
+    "tests/grader/tests/",            # the grader's own tests (hostile submissions, the reference's runs)
     "tests/grader/package.py",        # this script: Gradescope and Autolab packaging
-    "tests/grader/test_packages.py",  # ... and its tests
-    "tests/grader/release_check.py",  # ... and the check of the exported release
     "tests/grader/grade_bench.py",    # the grader's benchmark (grades the reference solutions)
     "tests/grader/grade_class.py",    # grading a class (with the reference solutions)
     "tests/grader/grade_class_bench.py",  # ... its benchmark
-    "tests/grader/test_class.py",     # ... and its tests
     ".ci/",                           # the instructors' CI (it expects the reference solutions)
     ".github/workflows/ci.yml",       # ... and the same CI on GitHub
     "lib/README.md",                  # the library's guide (students read tasks/README.md)

@@ -4,7 +4,7 @@ They build the packages, unpack them where the platforms would (a fake /autograd
 fake Autolab job folder, a checkout of the student release) and run them there as the
 platforms do, from a clean state, checking the scores they report.
 
-    /usr/bin/python3 tests/grader/test_packages.py TESTS_BUILD_FOLDER [unittest arguments]
+    /usr/bin/python3 tests/grader/tests/test_packages.py TESTS_BUILD_FOLDER [unittest arguments]
 
 TESTS_BUILD_FOLDER is the build's tests/ folder: it holds the graded suites test_<task> (for
 each task's maximum points), and the tests work in its package-tests/ subfolder.
@@ -33,8 +33,9 @@ from unittest import mock
 import yaml  # Debian's python3-yaml
 
 HERE = Path(__file__).resolve().parent
-REPO = HERE.parents[1]
-sys.path.insert(0, str(HERE))
+GRADER = HERE.parent  # the grader, whose tests these are
+REPO = HERE.parents[2]
+sys.path.insert(0, str(GRADER))
 import package  # noqa: E402  (the script under test, for its lists of tasks and exclusions)
 import release_check  # noqa: E402  (how the release's README is read: its commands and paths)
 import course  # noqa: E402  (the course's tasks)
@@ -63,7 +64,7 @@ def run(command, cwd=None, timeout=1800, env=None, shell=False):
 
 
 def package_command(*arguments):
-    status, output = run(["/usr/bin/python3", str(HERE / "package.py"), *arguments])
+    status, output = run(["/usr/bin/python3", str(GRADER / "package.py"), *arguments])
     if status != 0:
         raise AssertionError(f"package.py {' '.join(arguments)} failed with status {status}:\n{output}")
     return output
@@ -117,15 +118,15 @@ class StudentRelease(unittest.TestCase):
         package_command("student-release", str(folder))
 
         # Nothing that gives answers away, no instructors' tools; the workflow is there.
-        for gone in ["solutions", "tests/mutants", "tests/grader/hostile", "tests/graded/hidden",
-                     "tests/grader/package.py", "tests/grader/test_packages.py", "tests/grader/test_grader.py", ".ci"]:
+        for gone in ["solutions", "tests/mutants", "tests/grader/tests", "tests/graded/hidden", "tests/grader/package.py",
+                     ".ci"]:
             self.assertFalse((folder / gone).exists(), f"{gone} must not be in the student release")
         for kept in ["build.sh", "tasks/propagate.cpp", "tests/grader/grade.py", "tests/graded/test_movie.cpp",
                      package.WORKFLOW, ".devcontainer/devcontainer.json"]:
             self.assertTrue((folder / kept).is_file(), f"{kept} must be in the student release")
         self.assertTrue(os.access(folder / "build.sh", os.X_OK))
         for path in ["tests/graded/hidden/test_secret.cpp", "tests/mutants/propagate/off_by_one.cpp",
-                     "solutions/movie.cpp", "tests/grader/hostile/propagate.cpp"]:
+                     "solutions/movie.cpp", "tests/grader/tests/hostile/propagate.cpp"]:
             self.assertTrue(package.excluded(path, package.ALWAYS_EXCLUDED + package.STUDENT_EXCLUDED), path)
         readme = (folder / "README.md").read_text()
         self.assertEqual(readme, package.students_text((REPO / package.STUDENTS_GUIDE).read_text()))
@@ -613,7 +614,7 @@ GRADED_TEST(MeanSpeed, NoCircles, 1, after_due_date) {
 
 class Classroom(unittest.TestCase):
     def test_committed_workflow_is_the_generated_one(self):
-        status, output = run(["/usr/bin/python3", str(HERE / "package.py"), "classroom", "--tests", str(TESTS), "--check"])
+        status, output = run(["/usr/bin/python3", str(GRADER / "package.py"), "classroom", "--tests", str(TESTS), "--check"])
         self.assertEqual(status, 0, output)
 
     def workflow_steps(self, folder):

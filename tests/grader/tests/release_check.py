@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Checks that an exported student release names nothing it does not have.
 
-    /usr/bin/python3 tests/grader/release_check.py RELEASE_FOLDER
+    /usr/bin/python3 tests/grader/tests/release_check.py RELEASE_FOLDER
 
 Run after the release has been built (its `./build.sh test` has run). Every command in the
 release's README.md (code blocks and inline code) and in `./build.sh --help` is run in the
@@ -20,7 +20,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the grader, whose tests these are
 from course import TASKS  # noqa: E402
 
 # Values for the README's placeholders.

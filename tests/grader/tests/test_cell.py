@@ -4,7 +4,7 @@ submitted code might (cell_attempts.c), and each protection is checked on its ow
 Landlock where the kernel has it, and, as root, the cell's own user id. A second set runs the cell
 as an unprivileged user, as a student's machine or GitHub Classroom does.
 
-    /usr/bin/python3 tests/grader/test_cell.py CELL CELL_ATTEMPTS [unittest arguments]
+    /usr/bin/python3 tests/grader/tests/test_cell.py CELL CELL_ATTEMPTS [unittest arguments]
 """
 
 import os
@@ -19,7 +19,9 @@ import unittest
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-REPO = HERE.parents[1]
+GRADER = HERE.parent  # the grader, whose tests these are
+REPO = HERE.parents[2]
+sys.path.insert(0, str(GRADER))
 CELL = ATTEMPTS = None  # from the command line
 ROOT = os.geteuid() == 0
 CELL_USER = 1_900_099_999  # a user id of the grader's pool, far from any grading's

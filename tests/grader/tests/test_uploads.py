@@ -8,7 +8,7 @@ Gradescope's run_autograder logic (package.py's gradescope_run) and grade.py, wi
 input that never ends. Each must end with a clear message and a results.json, in bounded time,
 and cost points only in the tasks it spoils.
 
-    /usr/bin/python3 tests/grader/test_uploads.py BUILD_FOLDER [unittest arguments]
+    /usr/bin/python3 tests/grader/tests/test_uploads.py BUILD_FOLDER [unittest arguments]
 
 BUILD_FOLDER is the grader's build folder, shared with test_grader.py (the end-to-end cases).
 """
@@ -31,8 +31,9 @@ import zipfile
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-REPO = HERE.parents[1]
-sys.path.insert(0, str(HERE))
+GRADER = HERE.parent  # the grader, whose tests these are
+REPO = HERE.parents[2]
+sys.path.insert(0, str(GRADER))
 import building  # noqa: E402  (the scripts under test)
 import package  # noqa: E402
 import course  # noqa: E402  (the course's tasks)

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Tests of class grading (grade_class.py, ./build.sh grade --class DIR).
 
-    /usr/bin/python3 tests/grader/test_class.py WORK_FOLDER [Case.test ...]
+    /usr/bin/python3 tests/grader/tests/test_class.py WORK_FOLDER [Case.test ...]
 
 A class of 22 students is made from the project's own material (the reference solutions, the
 stubs, every mutant of three tasks, one of propagate twice, the hostile files and a mix) and written in
@@ -26,8 +26,9 @@ import zipfile
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-REPO = HERE.parents[1]
-sys.path.insert(0, str(HERE))
+GRADER = HERE.parent  # the grader, whose tests these are
+REPO = HERE.parents[2]
+sys.path.insert(0, str(GRADER))
 import browser  # noqa: E402
 import grade_class  # noqa: E402
 import package  # noqa: E402
@@ -127,7 +128,7 @@ def gradebook(results):
 
 
 def run_class(class_folder, results, *options, wait=True):
-    command = ["/usr/bin/python3", str(HERE / "grade.py"), "--class", str(class_folder), "--results", str(results),
+    command = ["/usr/bin/python3", str(GRADER / "grade.py"), "--class", str(class_folder), "--results", str(results),
                *[word for task in GRADED for word in ("--task", task)], *options]
     if not wait:
         return subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
@@ -319,7 +320,7 @@ class SameAsAlone(unittest.TestCase):
             for task in package.TASKS:
                 (submission / TASK_FILE[task]).write_bytes(files.get(TASK_FILE[task])
                                                            or (REPO / "tasks" / TASK_FILE[task]).read_bytes())
-            command = ["/usr/bin/python3", str(HERE / "grade.py"), "--submission", str(submission), "--results",
+            command = ["/usr/bin/python3", str(GRADER / "grade.py"), "--submission", str(submission), "--results",
                        str(submission.parent / "results"), "--build", str(WORK / "alone-build"),
                        *grade_class.grading_options(tasks)]
             if os.geteuid() == 0:
@@ -338,7 +339,7 @@ class Hostile(unittest.TestCase):
     def test_attackers_beside_honest_students_cost_them_nothing(self):
         """A class of two honest students, each graded beside an attacker on two workers: one
         attacker kills every process it can signal and reads and overwrites the other students'
-        files (tests/grader/hostile/attacks/class_neighbours), the other holds memory and
+        files (tests/grader/tests/hostile/attacks/class_neighbours), the other holds memory and
         processors (memory_and_processes). The honest students keep full points, the attackers
         score 0 in the attacked tasks, and no attacker's output holds another student's file."""
         import test_attacks
@@ -364,7 +365,7 @@ class Hostile(unittest.TestCase):
             (folder / student).mkdir(parents=True)
             for name, text in files.items():
                 (folder / student / name).write_text(text)
-        status, output = run(["/usr/bin/python3", str(HERE / "grade.py"), "--class", str(folder), "--results",
+        status, output = run(["/usr/bin/python3", str(GRADER / "grade.py"), "--class", str(folder), "--results",
                               str(results), "--workers", "2", *[word for task in tasks for word in ("--task", task)]],
                              timeout=1800)
         self.assertEqual(status, 0, output[-5000:])

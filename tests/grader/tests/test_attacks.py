@@ -1,11 +1,11 @@
 #!/usr/bin/python3
-"""The hostile suite: each submission of tests/grader/hostile/attacks/ tries one way to break a
+"""The hostile suite: each submission of tests/grader/tests/hostile/attacks/ tries one way to break a
 promise of the grader, and is graded end to end. Every attack must score 0 in its own task, change
 no other task's points, show nothing of the reference code, the hidden tests or the repository's
 history in any output, and leave nothing behind (no process and no file of a cell's user). The
-attacks' files are listed in tests/grader/hostile/README.md.
+attacks' files are listed in tests/grader/tests/hostile/README.md.
 
-    /usr/bin/python3 tests/grader/test_attacks.py BUILD_FOLDER [unittest arguments]
+    /usr/bin/python3 tests/grader/tests/test_attacks.py BUILD_FOLDER [unittest arguments]
 
 BUILD_FOLDER is the grader's build, shared with test_grader.py (CTest runs them one at a time).
 """
@@ -20,8 +20,9 @@ import unittest
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-REPO = HERE.parents[1]
-sys.path.insert(0, str(HERE))
+GRADER = HERE.parent  # the grader, whose tests these are
+REPO = HERE.parents[2]
+sys.path.insert(0, str(GRADER))
 import cell  # noqa: E402
 import test_grader  # noqa: E402
 from course import TASK_FILE, TASKS  # noqa: E402

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Tests of progress.py: the block that ends ./build.sh test (where the tasks stand, what next).
 
-    /usr/bin/python3 tests/grader/test_progress.py
+    /usr/bin/python3 tests/grader/tests/test_progress.py
 """
 
 import contextlib
@@ -13,7 +13,7 @@ from unittest import mock
 from pathlib import Path
 from xml.sax.saxutils import escape
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the grader, whose tests these are
 import course  # noqa: E402  (the course's tasks)
 import progress  # noqa: E402
 

@@ -3,7 +3,7 @@
 scores and files it writes. All scenarios share one build folder (CTest runs them one at a
 time through a resource lock), so each grading run rebuilds only what changed.
 
-    /usr/bin/python3 tests/grader/test_grader.py BUILD_FOLDER [unittest arguments]
+    /usr/bin/python3 tests/grader/tests/test_grader.py BUILD_FOLDER [unittest arguments]
 """
 
 import html
@@ -21,8 +21,9 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-REPO = HERE.parents[1]
-sys.path.insert(0, str(HERE))
+GRADER = HERE.parent  # the grader, whose tests these are
+REPO = HERE.parents[2]
+sys.path.insert(0, str(GRADER))
 import browser  # noqa: E402
 import package  # noqa: E402  (the platforms' time limits)
 import course  # noqa: E402  (the course's tasks)
@@ -40,7 +41,7 @@ def grade(submission, *options, temporary=None, results=None):
     results = Path(results or tempfile.mkdtemp(prefix="grader-results-"))
     try:
         done = subprocess.run(
-            ["/usr/bin/python3", str(HERE / "grade.py"), "--submission", str(submission), "--build", str(BUILD),
+            ["/usr/bin/python3", str(GRADER / "grade.py"), "--submission", str(submission), "--build", str(BUILD),
              "--results", str(results), *options],
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=3000,
             env=dict(os.environ, TMPDIR=str(temporary)) if temporary else None)
