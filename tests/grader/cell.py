@@ -110,8 +110,8 @@ class UserIds:
         raise RuntimeError("every user id of the grader's pool is in use")
 
     def release(self):
-        for uid, lock in self.held.items():
-            clear_user(self.launcher, uid)
+        clear_users(self.launcher, list(self.held))
+        for lock in self.held.values():
             lock.truncate(0)
             lock.close()
         self.held = {}
@@ -120,16 +120,22 @@ class UserIds:
 def clear_user(launcher, uid, files=True):
     """Stops every process of user `uid` and (with `files`) removes its files from the shared
     folders."""
-    subprocess.run([str(launcher), "--user", str(uid), "--kill-all"], stdin=subprocess.DEVNULL,
-                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=60)
-    for shared in SHARED_FOLDERS if files else []:
+    clear_users(launcher, [uid], files)
+
+
+def clear_users(launcher, uids, files=True):
+    """clear_user for several users, with one look through the shared folders."""
+    for uid in uids:
+        subprocess.run([str(launcher), "--user", str(uid), "--kill-all"], stdin=subprocess.DEVNULL,
+                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=60)
+    for shared in SHARED_FOLDERS if files and uids else []:
         try:
             entries = list(os.scandir(shared))
         except OSError:
             continue
         for entry in entries:
             try:
-                if entry.stat(follow_symlinks=False).st_uid != uid:
+                if entry.stat(follow_symlinks=False).st_uid not in uids:
                     continue
                 if entry.is_dir(follow_symlinks=False):
                     shutil.rmtree(entry.path, ignore_errors=True)
