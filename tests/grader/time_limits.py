@@ -14,9 +14,11 @@ one, and an endless loop still costs only its own task. Without the reference so
 student release, GitHub Classroom), the limits are fixed: --timeout per test, --task-budget
 per task.
 
-A test's limit is CPU time, which a busy machine does not eat into; a test that sleeps or waits
-is stopped after WALL_SLACK times its limit in wall time. A task's budget is wall time: its
-compilation, its link and its tests' durations added up (also when two run at once). A test
+A test's limit is CPU time (its judge's and its worker's), which a busy machine does not eat
+into; a test that sleeps or waits is stopped after WALL_SLACK times its limit of time spent
+neither computing nor waiting for a processor (judging.py). A task's budget is wall time: its
+compilation, its link and its tests' durations added up (also when two run at once; a test's
+duration without the time it waited for a processor). A test
 starts only with time left, and the task's remaining tests fail without running once the
 budget is used up, so a submission, however it misbehaves, is graded within the sum of its
 tasks' budgets (plus the grader's own build).
@@ -36,7 +38,7 @@ from course import TASK_FILE, TASK_FUNCTIONS
 MARGIN = 10             # limits are this many times what the reference needs on the machine
 MIN_TEST_SECONDS = 2.0  # CPU seconds any test may take: starting a process on a busy machine
 MIN_TASK_SECONDS = 20.0  # seconds any task may take in all, a compilation of its file included
-WALL_SLACK = 2          # a test is stopped after this many times its CPU limit in wall time
+WALL_SLACK = 2          # a test is stopped after this many times its CPU limit of waiting (not for a processor)
 # A test is started only with at least this much of its task's budget left (or its whole time
 # limit, if that is shorter): a shorter run would stop almost any test.
 MINIMUM_START_SECONDS = 1.0

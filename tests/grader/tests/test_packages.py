@@ -825,7 +825,8 @@ class Gradescope(unittest.TestCase):
         for where, text in texts.items():
             for secret in test_attacks.secrets():
                 self.assertNotIn(secret, text, f"{where} shows '{secret}'")
-            self.assertNotIn("LEAKED:", text)
+            if "Landlock ABI" in output:  # no stash at all (without Landlock, visible tests may share theirs)
+                self.assertNotIn("LEAKED:", text)
         self.assertEqual(test_attacks.leftovers(), [])
 
     def test_correct_code_five_times_slower_keeps_full_points_on_one_core(self):
@@ -1051,7 +1052,8 @@ class Autolab(unittest.TestCase):
             if landlock or not user:  # without Landlock, an unprivileged job's cells can read the image
                 for secret in test_attacks.secrets():
                     self.assertNotIn(secret, output, f"the feedback shows '{secret}'")
-            self.assertNotIn("LEAKED:", output)
+            if landlock:
+                self.assertNotIn("LEAKED:", output)
         finally:
             shutil.rmtree(image, ignore_errors=True)
 
