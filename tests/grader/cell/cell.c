@@ -1,5 +1,5 @@
 /* The cell: starts one program of a grading confined, so that submitted code can give wrong
- * answers and nothing else (tests/grader/README.md, "What a submission can and cannot do").
+ * answers and nothing else (the instructors' guide, "What a submission can and cannot do").
  *
  *   cell [OPTIONS] -- PROGRAM [ARGUMENT...]
  *   cell --probe

@@ -200,7 +200,7 @@ class StagesOff(unittest.TestCase):
         """course.txt decides: the files of a stage it switches off are not shipped to students."""
         folder = Path(tempfile.mkdtemp(prefix="release-stages-off-"))
         try:
-            with mock.patch.object(package.grade, "OFF", ["walls"]), contextlib.redirect_stdout(io.StringIO()):
+            with mock.patch.object(package.course, "OFF", ["walls"]), contextlib.redirect_stdout(io.StringIO()):
                 package.main(["student-release", str(folder / "release"), "--no-git"])
             release = folder / "release"
             self.assertFalse((release / "tasks" / "walls.cpp").exists())
