@@ -32,8 +32,7 @@ struct WorkerGone {};
 [[noreturn]] void worker_gone(const std::string& call, const std::string& what) {
   gone = true;
   ADD_FAILURE() << testing::explain(
-      call + " to return or to throw an exception",
-      "the process running your code ended during the call" + what,
+      call + " to return or to throw an exception", "the process running your code ended during the call" + what,
       "what ends a program: exit() or abort(), a failed assert, an uncaught exception in a thread, reading or "
       "writing outside an array (a segmentation fault), an endless recursion, or running out of memory or time "
       "(the first line of this message says which, where the grader can tell)");
@@ -41,7 +40,7 @@ struct WorkerGone {};
 }
 
 // Sends a call and receives the worker's answer.
-Reader exchange(const Writer& request, const std::string& call) {
+Reader call_worker(const Writer& request, const std::string& call) {
   if (channel < 0) throw std::logic_error("the grader's judge has no worker to call " + call);
   if (gone) throw WorkerGone{};
   try {
@@ -59,8 +58,8 @@ void finish(Reader& reply, const std::string& call) {
     const auto ending = reply.get<Ending>();
     if (ending != Ending::returned) throw_again(ending, reply);
   } catch (const ProtocolError& error) {
-    worker_gone(call, std::string(", or wrote something else than its answer to the grader's channel (") +
-                          error.what() + ")");
+    worker_gone(
+        call, std::string(", or wrote something else than its answer to the grader's channel (") + error.what() + ")");
   }
 }
 
@@ -73,8 +72,8 @@ T result(Reader& reply, const std::string& call) {
     reply.expect_end();
     return value;
   } catch (const ProtocolError& error) {
-    worker_gone(call, std::string(", or wrote something else than its answer to the grader's channel (") +
-                          error.what() + ")");
+    worker_gone(
+        call, std::string(", or wrote something else than its answer to the grader's channel (") + error.what() + ")");
   }
 }
 
@@ -84,8 +83,8 @@ void read_back(Reader& reply, const std::string& call, T&... arguments) {
   try {
     (reply >> ... >> arguments);
   } catch (const ProtocolError& error) {
-    worker_gone(call, std::string(", or wrote something else than its answer to the grader's channel (") +
-                          error.what() + ")");
+    worker_gone(
+        call, std::string(", or wrote something else than its answer to the grader's channel (") + error.what() + ")");
   }
 }
 
@@ -93,9 +92,22 @@ void expect_end(Reader& reply, const std::string& call) {
   try {
     reply.expect_end();
   } catch (const ProtocolError& error) {
-    worker_gone(call, std::string(", or wrote something else than its answer to the grader's channel (") +
-                          error.what() + ")");
+    worker_gone(
+        call, std::string(", or wrote something else than its answer to the grader's channel (") + error.what() + ")");
   }
+}
+
+// A call of the propagate family: the state goes both ways, the collision comes back.
+template <typename... Extra>
+Collision step(Call which, const std::string& call, double table_radius, double circle_radius, int n,
+               Coordinates& coordinates, Velocities& velocities, const Extra&... extra) {
+  Writer request;
+  request << which << table_radius << circle_radius << n << coordinates << velocities;
+  if constexpr (sizeof...(extra) > 0) (request << ... << extra);
+  auto reply = call_worker(request, call);
+  read_back(reply, call, coordinates, velocities);
+  finish(reply, call);
+  return result<Collision>(reply, call);
 }
 
 }  // namespace
@@ -117,7 +129,7 @@ Coordinates init_billiard(double table_radius, double circle_radius, int n, Rng&
   const std::string call = "init_billiard";
   Writer request;
   request << Call::init_billiard << table_radius << circle_radius << n << rng;
-  auto reply = judge::exchange(request, call);
+  auto reply = judge::call_worker(request, call);
   judge::read_back(reply, call, rng);
   judge::finish(reply, call);
   return judge::result<Coordinates>(reply, call);
@@ -127,7 +139,7 @@ Velocities init_velocities(int n, const Coordinates& coordinates, Rng& rng) {
   const std::string call = "init_velocities";
   Writer request;
   request << Call::init_velocities << n << coordinates << rng;
-  auto reply = judge::exchange(request, call);
+  auto reply = judge::call_worker(request, call);
   judge::read_back(reply, call, rng);
   judge::finish(reply, call);
   return judge::result<Velocities>(reply, call);
@@ -139,7 +151,7 @@ void visualize_table(double table_radius, double circle_radius, int n, const Coo
   Writer request;
   request << Call::visualize_table << table_radius << circle_radius << n << coordinates
           << judge::describe_file(svg_file);
-  auto reply = judge::exchange(request, call);
+  auto reply = judge::call_worker(request, call);
   judge::FileState file;
   judge::read_back(reply, call, file);
   judge::copy_back(svg_file, file);
@@ -149,13 +161,7 @@ void visualize_table(double table_radius, double circle_radius, int n, const Coo
 
 Collision propagate(double table_radius, double circle_radius, int n, Coordinates& coordinates,
                     Velocities& velocities) {
-  const std::string call = "propagate";
-  Writer request;
-  request << Call::propagate << table_radius << circle_radius << n << coordinates << velocities;
-  auto reply = judge::exchange(request, call);
-  judge::read_back(reply, call, coordinates, velocities);
-  judge::finish(reply, call);
-  return judge::result<Collision>(reply, call);
+  return judge::step(Call::propagate, "propagate", table_radius, circle_radius, n, coordinates, velocities);
 }
 
 void movie(double table_radius, double circle_radius, int n, Coordinates& coordinates, Velocities& velocities,
@@ -164,7 +170,7 @@ void movie(double table_radius, double circle_radius, int n, Coordinates& coordi
   Writer request;
   request << Call::movie << table_radius << circle_radius << n << coordinates << velocities << collisions
           << judge::describe_file(svg_file);
-  auto reply = judge::exchange(request, call);
+  auto reply = judge::call_worker(request, call);
   judge::FileState file;
   judge::read_back(reply, call, coordinates, velocities, file);
   judge::copy_back(svg_file, file);
@@ -176,7 +182,7 @@ double kinetic_energy(int n, const Velocities& velocities) {
   const std::string call = "kinetic_energy";
   Writer request;
   request << Call::kinetic_energy << n << velocities;
-  auto reply = judge::exchange(request, call);
+  auto reply = judge::call_worker(request, call);
   judge::finish(reply, call);
   return judge::result<double>(reply, call);
 }
@@ -185,7 +191,7 @@ void correct_energy_drift(int n, Velocities& velocities, double target_mean_squa
   const std::string call = "correct_energy_drift";
   Writer request;
   request << Call::correct_energy_drift << n << velocities << target_mean_square;
-  auto reply = judge::exchange(request, call);
+  auto reply = judge::call_worker(request, call);
   judge::read_back(reply, call, velocities);
   judge::finish(reply, call);
   judge::expect_end(reply, call);
@@ -193,45 +199,29 @@ void correct_energy_drift(int n, Velocities& velocities, double target_mean_squa
 
 Collision propagate_gravity(double table_radius, double circle_radius, int n, Coordinates& coordinates,
                             Velocities& velocities, const Vector& g) {
-  const std::string call = "propagate_gravity";
-  Writer request;
-  request << Call::propagate_gravity << table_radius << circle_radius << n << coordinates << velocities << g;
-  auto reply = judge::exchange(request, call);
-  judge::read_back(reply, call, coordinates, velocities);
-  judge::finish(reply, call);
-  return judge::result<Collision>(reply, call);
+  return judge::step(Call::propagate_gravity, "propagate_gravity", table_radius, circle_radius, n, coordinates,
+                     velocities, g);
 }
 
 double mean_energy(int n, const Coordinates& coordinates, const Velocities& velocities, const Vector& g) {
   const std::string call = "mean_energy";
   Writer request;
   request << Call::mean_energy << n << coordinates << velocities << g;
-  auto reply = judge::exchange(request, call);
+  auto reply = judge::call_worker(request, call);
   judge::finish(reply, call);
   return judge::result<double>(reply, call);
 }
 
 Collision propagate_walls(double table_radius, double circle_radius, int n, Coordinates& coordinates,
                           Velocities& velocities, const std::vector<Wall>& walls) {
-  const std::string call = "propagate_walls";
-  Writer request;
-  request << Call::propagate_walls << table_radius << circle_radius << n << coordinates << velocities << walls;
-  auto reply = judge::exchange(request, call);
-  judge::read_back(reply, call, coordinates, velocities);
-  judge::finish(reply, call);
-  return judge::result<Collision>(reply, call);
+  return judge::step(Call::propagate_walls, "propagate_walls", table_radius, circle_radius, n, coordinates, velocities,
+                     walls);
 }
 
 Collision propagate_sectors(double table_radius, double circle_radius, int n, Coordinates& coordinates,
                             Velocities& velocities, double cell_size) {
-  const std::string call = "propagate_sectors";
-  Writer request;
-  request << Call::propagate_sectors << table_radius << circle_radius << n << coordinates << velocities
-          << cell_size;
-  auto reply = judge::exchange(request, call);
-  judge::read_back(reply, call, coordinates, velocities);
-  judge::finish(reply, call);
-  return judge::result<Collision>(reply, call);
+  return judge::step(Call::propagate_sectors, "propagate_sectors", table_radius, circle_radius, n, coordinates,
+                     velocities, cell_size);
 }
 
 // Counted where task 9's code calls pair_time: in the worker.
@@ -239,7 +229,7 @@ long long pair_time_calls() {
   const std::string call = "pair_time_calls";
   Writer request;
   request << Call::pair_time_calls;
-  auto reply = judge::exchange(request, call);
+  auto reply = judge::call_worker(request, call);
   judge::finish(reply, call);
   return judge::result<std::int64_t>(reply, call);
 }
@@ -253,7 +243,7 @@ cli::Run run_student_program(const std::vector<std::string>& arguments,
   judge::ProgramRun run{arguments, inputs, limits.seconds};
   Writer request;
   request << Call::run_program << run;
-  auto reply = judge::exchange(request, call);
+  auto reply = judge::call_worker(request, call);
   judge::finish(reply, call);
   const auto result = judge::result<judge::ProgramResult>(reply, call);
   cli::Run done;

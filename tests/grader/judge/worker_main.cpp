@@ -17,6 +17,7 @@
 
 #include <cstdio>
 #include <iostream>
+#include <tuple>
 #include <type_traits>
 
 namespace {
@@ -51,6 +52,25 @@ void answer(Writer& reply, Function&& call, Changed&& changed) {
 
 void nothing(Writer&) {}
 
+// Answers a call of the propagate family: reads the table, the state and what else the function
+// takes (`Extra`, or nothing), makes the call and sends the state back with the collision.
+template <typename... Extra, typename Function>
+void step(Reader& request, Writer& reply, Function function) {
+  const auto R = request.get<double>();
+  const auto a = request.get<double>();
+  const auto n = request.get<std::int32_t>();
+  auto coordinates = request.get<Coordinates>();
+  auto velocities = request.get<Velocities>();
+  const auto extra = std::make_tuple(request.get<Extra>()...);
+  answer(
+      reply,
+      [&] {
+        return std::apply([&](const auto&... more) { return function(R, a, n, coordinates, velocities, more...); },
+                          extra);
+      },
+      [&](Writer& out) { out << coordinates << velocities; });
+}
+
 // Answers one call.
 void serve(Reader& request, Writer& reply) {
   const auto call = request.get<Call>();
@@ -60,14 +80,16 @@ void serve(Reader& request, Writer& reply) {
       const auto a = request.get<double>();
       const auto n = request.get<std::int32_t>();
       auto rng = request.get<Rng>();
-      answer(reply, [&] { return init_billiard(R, a, n, rng); }, [&](Writer& out) { out << rng; });
+      answer(
+          reply, [&] { return init_billiard(R, a, n, rng); }, [&](Writer& out) { out << rng; });
       return;
     }
     case Call::init_velocities: {
       const auto n = request.get<std::int32_t>();
       const auto coordinates = request.get<Coordinates>();
       auto rng = request.get<Rng>();
-      answer(reply, [&] { return init_velocities(n, coordinates, rng); }, [&](Writer& out) { out << rng; });
+      answer(
+          reply, [&] { return init_velocities(n, coordinates, rng); }, [&](Writer& out) { out << rng; });
       return;
     }
     case Call::visualize_table: {
@@ -76,20 +98,14 @@ void serve(Reader& request, Writer& reply) {
       const auto n = request.get<std::int32_t>();
       const auto coordinates = request.get<Coordinates>();
       const auto file = judge::make_file(request.get<judge::FileState>(), {});
-      answer(reply, [&] { visualize_table(R, a, n, coordinates, file); },
-             [&](Writer& out) { out << judge::describe_file(file); });
+      answer(
+          reply, [&] { visualize_table(R, a, n, coordinates, file); },
+          [&](Writer& out) { out << judge::describe_file(file); });
       return;
     }
-    case Call::propagate: {
-      const auto R = request.get<double>();
-      const auto a = request.get<double>();
-      const auto n = request.get<std::int32_t>();
-      auto coordinates = request.get<Coordinates>();
-      auto velocities = request.get<Velocities>();
-      answer(reply, [&] { return propagate(R, a, n, coordinates, velocities); },
-             [&](Writer& out) { out << coordinates << velocities; });
+    case Call::propagate:
+      step(request, reply, propagate);
       return;
-    }
     case Call::movie: {
       const auto R = request.get<double>();
       const auto a = request.get<double>();
@@ -98,72 +114,53 @@ void serve(Reader& request, Writer& reply) {
       auto velocities = request.get<Velocities>();
       const auto collisions = request.get<std::int32_t>();
       const auto file = judge::make_file(request.get<judge::FileState>(), {});
-      answer(reply, [&] { movie(R, a, n, coordinates, velocities, collisions, file); },
-             [&](Writer& out) { out << coordinates << velocities << judge::describe_file(file); });
+      answer(
+          reply, [&] { movie(R, a, n, coordinates, velocities, collisions, file); },
+          [&](Writer& out) { out << coordinates << velocities << judge::describe_file(file); });
       return;
     }
     case Call::kinetic_energy: {
       const auto n = request.get<std::int32_t>();
       const auto velocities = request.get<Velocities>();
-      answer(reply, [&] { return kinetic_energy(n, velocities); }, nothing);
+      answer(
+          reply, [&] { return kinetic_energy(n, velocities); }, nothing);
       return;
     }
     case Call::correct_energy_drift: {
       const auto n = request.get<std::int32_t>();
       auto velocities = request.get<Velocities>();
       const auto target = request.get<double>();
-      answer(reply, [&] { correct_energy_drift(n, velocities, target); },
-             [&](Writer& out) { out << velocities; });
+      answer(
+          reply, [&] { correct_energy_drift(n, velocities, target); }, [&](Writer& out) { out << velocities; });
       return;
     }
-    case Call::propagate_gravity: {
-      const auto R = request.get<double>();
-      const auto a = request.get<double>();
-      const auto n = request.get<std::int32_t>();
-      auto coordinates = request.get<Coordinates>();
-      auto velocities = request.get<Velocities>();
-      const auto g = request.get<Vector>();
-      answer(reply, [&] { return propagate_gravity(R, a, n, coordinates, velocities, g); },
-             [&](Writer& out) { out << coordinates << velocities; });
+    case Call::propagate_gravity:
+      step<Vector>(request, reply, propagate_gravity);
       return;
-    }
     case Call::mean_energy: {
       const auto n = request.get<std::int32_t>();
       const auto coordinates = request.get<Coordinates>();
       const auto velocities = request.get<Velocities>();
       const auto g = request.get<Vector>();
-      answer(reply, [&] { return mean_energy(n, coordinates, velocities, g); }, nothing);
+      answer(
+          reply, [&] { return mean_energy(n, coordinates, velocities, g); }, nothing);
       return;
     }
-    case Call::propagate_walls: {
-      const auto R = request.get<double>();
-      const auto a = request.get<double>();
-      const auto n = request.get<std::int32_t>();
-      auto coordinates = request.get<Coordinates>();
-      auto velocities = request.get<Velocities>();
-      const auto walls = request.get<std::vector<Wall>>();
-      answer(reply, [&] { return propagate_walls(R, a, n, coordinates, velocities, walls); },
-             [&](Writer& out) { out << coordinates << velocities; });
+    case Call::propagate_walls:
+      step<std::vector<Wall>>(request, reply, propagate_walls);
       return;
-    }
-    case Call::propagate_sectors: {
-      const auto R = request.get<double>();
-      const auto a = request.get<double>();
-      const auto n = request.get<std::int32_t>();
-      auto coordinates = request.get<Coordinates>();
-      auto velocities = request.get<Velocities>();
-      const auto cell_size = request.get<double>();
-      answer(reply, [&] { return propagate_sectors(R, a, n, coordinates, velocities, cell_size); },
-             [&](Writer& out) { out << coordinates << velocities; });
+    case Call::propagate_sectors:
+      step<double>(request, reply, propagate_sectors);
       return;
-    }
     case Call::pair_time_calls:
-      answer(reply, [] { return static_cast<std::int64_t>(pair_time_calls()); }, nothing);
+      answer(
+          reply, [] { return static_cast<std::int64_t>(pair_time_calls()); }, nothing);
       return;
     case Call::run_program:
       break;
   }
-  answer(reply, []() -> int { throw std::logic_error("this worker runs course functions, not programs"); }, nothing);
+  answer(
+      reply, []() -> int { throw std::logic_error("this worker runs course functions, not programs"); }, nothing);
 }
 
 }  // namespace
