@@ -364,7 +364,7 @@ class Bounds(unittest.TestCase):
         statements = [
             f"each test ten times the CPU time the reference takes for it (at least {limits.MIN_TEST_SECONDS:g} s)",
             f"(compiling its file, linking its suite, running its tests; at least {limits.MIN_TASK_SECONDS:g} s)",
-            f"stopped after twice its limit in wall time",
+            "stopped after twice its limit of time spent",
             f"`--total {package.PLATFORM_TOTAL}`",
             f"budgets adding up to at most {package.PLATFORM_TOTAL} s",
             f"a submission takes at most {package.PLATFORM_TOTAL + package.GRADESCOPE_BUILD_ALLOWANCE} s, the "
