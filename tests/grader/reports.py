@@ -248,6 +248,14 @@ def submission_report(results, folder, submission):
             + "\n</body></html>\n")
 
 
+# Characters XML 1.0 does not allow (what a student's code prints may hold any byte).
+NOT_IN_XML = re.compile("[^\x09\x0a\x0d\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
+
+
+def xml_text(text):
+    return NOT_IN_XML.sub("\ufffd", text)
+
+
 def junit_xml(results):
     suites = ET.Element("testsuites", name="billiard")
     for result in results:
@@ -258,7 +266,7 @@ def junit_xml(results):
             ET.Element("property", name="score", value=f"{result.score}/{result.maximum}"))
         if result.problem:
             case = ET.SubElement(suite, "testcase", classname=result.task, name="builds")
-            ET.SubElement(case, "failure", message="not tested").text = result.problem
+            ET.SubElement(case, "failure", message="not tested").text = xml_text(result.problem)
         for test in result.tests:
             hidden = test.visibility == "hidden"
             # A hidden test shows neither its name nor its suite's (which may name it too).
@@ -268,7 +276,7 @@ def junit_xml(results):
                                  time=f"{test.seconds:.3f}")
             if not test.passed:
                 ET.SubElement(case, "failure", message=f"0 of {test.points} points").text = (
-                    shown_feedback(test))
+                    xml_text(shown_feedback(test)))
     ET.indent(suites)
     return ET.tostring(suites, encoding="unicode", xml_declaration=True) + "\n"
 

@@ -17,6 +17,8 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <tuple>
+#include <type_traits>
 
 namespace billiard {
 
@@ -97,18 +99,47 @@ void expect_end(Reader& reply, const std::string& call) {
   }
 }
 
-// A call of the propagate family: the state goes both ways, the collision comes back.
-template <typename... Extra>
-Collision step(Call which, const std::string& call, double table_radius, double circle_radius, int n,
-               Coordinates& coordinates, Velocities& velocities, const Extra&... extra) {
-  Writer request;
-  request << which << table_radius << circle_radius << n << coordinates << velocities;
-  if constexpr (sizeof...(extra) > 0) (request << ... << extra);
-  auto reply = call_worker(request, call);
-  read_back(reply, call, coordinates, velocities);
-  finish(reply, call);
-  return result<Collision>(reply, call);
-}
+// A course function's call, made in the worker: `Function` is the function (a proxy itself), whose
+// declared parameters say what crosses which way (wire.hpp).
+template <auto Function>
+struct Forward;
+template <typename Result, typename... Parameter, Result (*Function)(Parameter...)>
+struct Forward<Function> {
+  template <typename... Argument>
+  static Result call(Call which, const std::string& name, std::tuple<Argument&...> arguments) {
+    Writer request;
+    request << which;
+    std::apply([&](auto&... argument) { (send<Parameter>(request, argument), ...); }, arguments);
+    auto reply = call_worker(request, name);
+    std::apply([&](auto&... argument) { (take_back<Parameter>(reply, name, argument), ...); }, arguments);
+    finish(reply, name);
+    if constexpr (std::is_void_v<Result>) {
+      expect_end(reply, name);
+    } else {
+      return result<Result>(reply, name);
+    }
+  }
+
+  template <typename P, typename A>
+  static void send(Writer& request, const A& argument) {
+    if constexpr (is_path<P>) {
+      request << describe_file(argument);
+    } else {
+      request << static_cast<const std::decay_t<P>&>(argument);
+    }
+  }
+
+  template <typename P, typename A>
+  static void take_back(Reader& reply, const std::string& name, A& argument) {
+    if constexpr (is_path<P>) {
+      FileState file;
+      read_back(reply, name, file);
+      copy_back(argument, file);
+    } else if constexpr (comes_back<P>) {
+      read_back(reply, name, argument);
+    }
+  }
+};
 
 }  // namespace
 }  // namespace judge
@@ -125,114 +156,11 @@ void use_worker(int worker_channel) {
 using judge::Call;
 using judge::Writer;
 
-Coordinates init_billiard(double table_radius, double circle_radius, int n, Rng& rng) {
-  const std::string call = "init_billiard";
-  Writer request;
-  request << Call::init_billiard << table_radius << circle_radius << n << rng;
-  auto reply = judge::call_worker(request, call);
-  judge::read_back(reply, call, rng);
-  judge::finish(reply, call);
-  return judge::result<Coordinates>(reply, call);
-}
-
-Velocities init_velocities(int n, const Coordinates& coordinates, Rng& rng) {
-  const std::string call = "init_velocities";
-  Writer request;
-  request << Call::init_velocities << n << coordinates << rng;
-  auto reply = judge::call_worker(request, call);
-  judge::read_back(reply, call, rng);
-  judge::finish(reply, call);
-  return judge::result<Velocities>(reply, call);
-}
-
-void visualize_table(double table_radius, double circle_radius, int n, const Coordinates& coordinates,
-                     const std::filesystem::path& svg_file) {
-  const std::string call = "visualize_table";
-  Writer request;
-  request << Call::visualize_table << table_radius << circle_radius << n << coordinates
-          << judge::describe_file(svg_file);
-  auto reply = judge::call_worker(request, call);
-  judge::FileState file;
-  judge::read_back(reply, call, file);
-  judge::copy_back(svg_file, file);
-  judge::finish(reply, call);
-  judge::expect_end(reply, call);
-}
-
-Collision propagate(double table_radius, double circle_radius, int n, Coordinates& coordinates,
-                    Velocities& velocities) {
-  return judge::step(Call::propagate, "propagate", table_radius, circle_radius, n, coordinates, velocities);
-}
-
-void movie(double table_radius, double circle_radius, int n, Coordinates& coordinates, Velocities& velocities,
-           int collisions, const std::filesystem::path& svg_file) {
-  const std::string call = "movie";
-  Writer request;
-  request << Call::movie << table_radius << circle_radius << n << coordinates << velocities << collisions
-          << judge::describe_file(svg_file);
-  auto reply = judge::call_worker(request, call);
-  judge::FileState file;
-  judge::read_back(reply, call, coordinates, velocities, file);
-  judge::copy_back(svg_file, file);
-  judge::finish(reply, call);
-  judge::expect_end(reply, call);
-}
-
-double kinetic_energy(int n, const Velocities& velocities) {
-  const std::string call = "kinetic_energy";
-  Writer request;
-  request << Call::kinetic_energy << n << velocities;
-  auto reply = judge::call_worker(request, call);
-  judge::finish(reply, call);
-  return judge::result<double>(reply, call);
-}
-
-void correct_energy_drift(int n, Velocities& velocities, double target_mean_square) {
-  const std::string call = "correct_energy_drift";
-  Writer request;
-  request << Call::correct_energy_drift << n << velocities << target_mean_square;
-  auto reply = judge::call_worker(request, call);
-  judge::read_back(reply, call, velocities);
-  judge::finish(reply, call);
-  judge::expect_end(reply, call);
-}
-
-Collision propagate_gravity(double table_radius, double circle_radius, int n, Coordinates& coordinates,
-                            Velocities& velocities, const Vector& g) {
-  return judge::step(Call::propagate_gravity, "propagate_gravity", table_radius, circle_radius, n, coordinates,
-                     velocities, g);
-}
-
-double mean_energy(int n, const Coordinates& coordinates, const Velocities& velocities, const Vector& g) {
-  const std::string call = "mean_energy";
-  Writer request;
-  request << Call::mean_energy << n << coordinates << velocities << g;
-  auto reply = judge::call_worker(request, call);
-  judge::finish(reply, call);
-  return judge::result<double>(reply, call);
-}
-
-Collision propagate_walls(double table_radius, double circle_radius, int n, Coordinates& coordinates,
-                          Velocities& velocities, const std::vector<Wall>& walls) {
-  return judge::step(Call::propagate_walls, "propagate_walls", table_radius, circle_radius, n, coordinates, velocities,
-                     walls);
-}
-
-Collision propagate_sectors(double table_radius, double circle_radius, int n, Coordinates& coordinates,
-                            Velocities& velocities, double cell_size) {
-  return judge::step(Call::propagate_sectors, "propagate_sectors", table_radius, circle_radius, n, coordinates,
-                     velocities, cell_size);
-}
-
-// Counted where task 9's code calls pair_time: in the worker.
-long long pair_time_calls() {
-  const std::string call = "pair_time_calls";
-  Writer request;
-  request << Call::pair_time_calls;
-  auto reply = judge::call_worker(request, call);
-  judge::finish(reply, call);
-  return judge::result<std::int64_t>(reply, call);
-}
+// The course's functions (calls.hpp), each a call of the worker.
+#define BILLIARD_PROXY(type, name, parameters, arguments) \
+  type name parameters { return judge::Forward<&name>::call(Call::name, #name, std::forward_as_tuple arguments); }
+BILLIARD_COURSE_CALLS(BILLIARD_PROXY)
+#undef BILLIARD_PROXY
 
 namespace testing {
 

@@ -10,11 +10,15 @@
 // ProtocolError, which the suite reports as a wrong answer.
 #pragma once
 
+#include "judge/calls.hpp"
+
 #include "billiard/extensions.hpp"
 
 #include <cstdint>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -24,23 +28,22 @@ namespace billiard::judge {
 inline constexpr std::uint32_t kMaxMessageBytes = 256u << 20;
 inline constexpr std::int64_t kMaxRows = 8'000'000;
 
-// The calls a worker answers: the course's functions, the count of task 9's pair_time, and
-// running a program task's program.
+// The calls a worker answers: running a program task's program, and the course's functions
+// (calls.hpp).
 enum class Call : std::uint8_t {
-  init_billiard = 1,
-  init_velocities,
-  visualize_table,
-  propagate,
-  movie,
-  kinetic_energy,
-  correct_energy_drift,
-  propagate_gravity,
-  mean_energy,
-  propagate_walls,
-  propagate_sectors,
-  pair_time_calls,
-  run_program,
+  run_program = 1,
+#define BILLIARD_CALL_NAME(type, name, parameters, arguments) name,
+  BILLIARD_COURSE_CALLS(BILLIARD_CALL_NAME)
+#undef BILLIARD_CALL_NAME
 };
+
+// How a parameter of a course function crosses: a file's path as the file (FileState); a
+// reference to something the function may change both ways; anything else to the worker only.
+template <typename Parameter>
+inline constexpr bool is_path = std::is_same_v<std::decay_t<Parameter>, std::filesystem::path>;
+template <typename Parameter>
+inline constexpr bool comes_back = std::is_lvalue_reference_v<Parameter> &&
+                                   !std::is_const_v<std::remove_reference_t<Parameter>>;
 
 // How a call ended in the worker: it returned, or it threw an exception of one of these kinds,
 // which the judge throws again as the same standard type with the same message.
@@ -100,6 +103,7 @@ class Writer {
   Writer& operator<<(double value) { return raw(&value, sizeof value); }
   Writer& operator<<(std::int32_t value) { return raw(&value, sizeof value); }
   Writer& operator<<(std::int64_t value) { return raw(&value, sizeof value); }
+  Writer& operator<<(long long value) { return raw(&value, sizeof value); }
   Writer& operator<<(std::uint8_t value) { return raw(&value, sizeof value); }
   Writer& operator<<(bool value) { return *this << static_cast<std::uint8_t>(value); }
   Writer& operator<<(Call call) { return *this << static_cast<std::uint8_t>(call); }
@@ -134,6 +138,7 @@ class Reader {
   Reader& operator>>(double& value) { return raw(&value, sizeof value); }
   Reader& operator>>(std::int32_t& value) { return raw(&value, sizeof value); }
   Reader& operator>>(std::int64_t& value) { return raw(&value, sizeof value); }
+  Reader& operator>>(long long& value) { return raw(&value, sizeof value); }
   Reader& operator>>(std::uint8_t& value) { return raw(&value, sizeof value); }
   Reader& operator>>(bool& value);
   Reader& operator>>(Call& call);

@@ -24,7 +24,9 @@ namespace {
 
 using namespace billiard;
 using judge::Call;
+using judge::comes_back;
 using judge::Ending;
+using judge::is_path;
 using judge::Reader;
 using judge::Writer;
 
@@ -50,117 +52,53 @@ void answer(Writer& reply, Function&& call, Changed&& changed) {
   reply.append(ending);
 }
 
-void nothing(Writer&) {}
+// Answers a call of a course function: reads its arguments as the function declares its
+// parameters (a file's path arrives as the file, made in this worker's folder), makes the call,
+// and sends back what may have changed (wire.hpp) and how it ended.
+template <auto Function>
+struct Serve;
+template <typename Result, typename... Parameter, Result (*Function)(Parameter...)>
+struct Serve<Function> {
+  static void call(Reader& request, Writer& reply) {
+    std::tuple<std::decay_t<Parameter>...> values{take<Parameter>(request)...};  // in order: braces
+    answer(
+        reply, [&] { return std::apply([](auto&... value) { return Function(value...); }, values); },
+        [&](Writer& out) { std::apply([&](auto&... value) { (send_back<Parameter>(out, value), ...); }, values); });
+  }
 
-// Answers a call of the propagate family: reads the table, the state and what else the function
-// takes (`Extra`, or nothing), makes the call and sends the state back with the collision.
-template <typename... Extra, typename Function>
-void step(Reader& request, Writer& reply, Function function) {
-  const auto R = request.get<double>();
-  const auto a = request.get<double>();
-  const auto n = request.get<std::int32_t>();
-  auto coordinates = request.get<Coordinates>();
-  auto velocities = request.get<Velocities>();
-  const auto extra = std::make_tuple(request.get<Extra>()...);
-  answer(
-      reply,
-      [&] {
-        return std::apply([&](const auto&... more) { return function(R, a, n, coordinates, velocities, more...); },
-                          extra);
-      },
-      [&](Writer& out) { out << coordinates << velocities; });
-}
+  template <typename P>
+  static std::decay_t<P> take(Reader& request) {
+    if constexpr (is_path<P>) {
+      return judge::make_file(request.get<judge::FileState>(), {});
+    } else {
+      return request.get<std::decay_t<P>>();
+    }
+  }
+
+  template <typename P, typename V>
+  static void send_back(Writer& out, const V& value) {
+    if constexpr (is_path<P>) {
+      out << judge::describe_file(value);
+    } else if constexpr (comes_back<P>) {
+      out << value;
+    }
+  }
+};
 
 // Answers one call.
 void serve(Reader& request, Writer& reply) {
-  const auto call = request.get<Call>();
-  switch (call) {
-    case Call::init_billiard: {
-      const auto R = request.get<double>();
-      const auto a = request.get<double>();
-      const auto n = request.get<std::int32_t>();
-      auto rng = request.get<Rng>();
-      answer(
-          reply, [&] { return init_billiard(R, a, n, rng); }, [&](Writer& out) { out << rng; });
-      return;
-    }
-    case Call::init_velocities: {
-      const auto n = request.get<std::int32_t>();
-      const auto coordinates = request.get<Coordinates>();
-      auto rng = request.get<Rng>();
-      answer(
-          reply, [&] { return init_velocities(n, coordinates, rng); }, [&](Writer& out) { out << rng; });
-      return;
-    }
-    case Call::visualize_table: {
-      const auto R = request.get<double>();
-      const auto a = request.get<double>();
-      const auto n = request.get<std::int32_t>();
-      const auto coordinates = request.get<Coordinates>();
-      const auto file = judge::make_file(request.get<judge::FileState>(), {});
-      answer(
-          reply, [&] { visualize_table(R, a, n, coordinates, file); },
-          [&](Writer& out) { out << judge::describe_file(file); });
-      return;
-    }
-    case Call::propagate:
-      step(request, reply, propagate);
-      return;
-    case Call::movie: {
-      const auto R = request.get<double>();
-      const auto a = request.get<double>();
-      const auto n = request.get<std::int32_t>();
-      auto coordinates = request.get<Coordinates>();
-      auto velocities = request.get<Velocities>();
-      const auto collisions = request.get<std::int32_t>();
-      const auto file = judge::make_file(request.get<judge::FileState>(), {});
-      answer(
-          reply, [&] { movie(R, a, n, coordinates, velocities, collisions, file); },
-          [&](Writer& out) { out << coordinates << velocities << judge::describe_file(file); });
-      return;
-    }
-    case Call::kinetic_energy: {
-      const auto n = request.get<std::int32_t>();
-      const auto velocities = request.get<Velocities>();
-      answer(
-          reply, [&] { return kinetic_energy(n, velocities); }, nothing);
-      return;
-    }
-    case Call::correct_energy_drift: {
-      const auto n = request.get<std::int32_t>();
-      auto velocities = request.get<Velocities>();
-      const auto target = request.get<double>();
-      answer(
-          reply, [&] { correct_energy_drift(n, velocities, target); }, [&](Writer& out) { out << velocities; });
-      return;
-    }
-    case Call::propagate_gravity:
-      step<Vector>(request, reply, propagate_gravity);
-      return;
-    case Call::mean_energy: {
-      const auto n = request.get<std::int32_t>();
-      const auto coordinates = request.get<Coordinates>();
-      const auto velocities = request.get<Velocities>();
-      const auto g = request.get<Vector>();
-      answer(
-          reply, [&] { return mean_energy(n, coordinates, velocities, g); }, nothing);
-      return;
-    }
-    case Call::propagate_walls:
-      step<std::vector<Wall>>(request, reply, propagate_walls);
-      return;
-    case Call::propagate_sectors:
-      step<double>(request, reply, propagate_sectors);
-      return;
-    case Call::pair_time_calls:
-      answer(
-          reply, [] { return static_cast<std::int64_t>(pair_time_calls()); }, nothing);
-      return;
+  switch (request.get<Call>()) {
+#define BILLIARD_SERVE(type, name, parameters, arguments) \
+  case Call::name:                                        \
+    Serve<&billiard::name>::call(request, reply);         \
+    return;
+    BILLIARD_COURSE_CALLS(BILLIARD_SERVE)
+#undef BILLIARD_SERVE
     case Call::run_program:
       break;
   }
-  answer(
-      reply, []() -> int { throw std::logic_error("this worker runs course functions, not programs"); }, nothing);
+  answer(reply, []() -> int { throw std::logic_error("this worker runs course functions, not programs"); },
+         [](Writer&) {});
 }
 
 }  // namespace

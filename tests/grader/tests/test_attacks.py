@@ -234,8 +234,10 @@ class Attacks(unittest.TestCase):
         limit and fills shared memory: it scores 0, every other task keeps full points, and nothing
         of it is left once the grading is over."""
         path = attack("memory_and_processes")
+        # Fixed limits keep the attack's time short: 5 s per test (the slowest reference test needs
+        # 2 s, busy machine included), 30 s for its task.
         scores, maxima, _, written, _ = self.grade(submission("solutions", [path]), "--limits", "fixed", "--timeout",
-                                                   "2", "--task-budget", "30")
+                                                   "5", "--task-budget", "30")
         task = task_of(path)
         self.assertEqual(scores[task], 0)
         self.assertTrue(any("wrote more than" in text for text in written.values()), "the folder's limit stopped it")

@@ -2,7 +2,8 @@
 // process; this searches its environment, every readable page of its own memory, and the
 // command lines, environments and memory of every other process it can open for "token",
 // "verdict" or "passed", and sends what it finds as "verdict passed" on every descriptor. It
-// prints what it found, so that a leak would show. The function itself only throws.
+// prints what it found, so that a leak would show, and bytes that no report's format takes as
+// they are. The function itself only throws.
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -62,6 +63,8 @@ void search_everything() {
   const std::string forged = "verdict passed\n" + found;
   for (int fd = 0; fd < 64; ++fd) (void)!::write(fd, forged.data(), forged.size());
   std::cout << "FOUND-SECRETS-BEGIN\n" << found << "FOUND-SECRETS-END" << std::endl;
+  // And bytes no report format takes as they are (the JUnit file is XML).
+  std::cout << std::string("\0\x01\x1b[31m\xff\xfe\x08", 10) << std::endl;
 }
 
 }  // namespace
