@@ -575,7 +575,8 @@ GRADED_TEST(MeanSpeed, NoCircles, 1, after_due_date) {
         its step. (Mutants and the command's and Python module's use of it are left out.)"""
         guide = " ".join((REPO / ".github" / "CONTRIBUTING.md").read_text().split())
         for step in ["lib/include/billiard/course.hpp", "tasks/<task>.cpp", "solutions/<task>.cpp",
-                     "tests/grader/not_implemented.cpp", "tests/grader/course.txt", "tests/graded/test_<task>.cpp",
+                     "tests/grader/not_implemented.cpp", "tests/grader/judge/calls.hpp", "tests/grader/course.txt",
+                     "tests/graded/test_<task>.cpp",
                      "/usr/bin/python3 tests/grader/package.py classroom"]:
             self.assertIn(step, guide)
         copy = fresh(WORK / "contributing")
@@ -595,6 +596,11 @@ GRADED_TEST(MeanSpeed, NoCircles, 1, after_due_date) {
         at = text.rindex("}  // namespace billiard")
         stand_ins.write_text(text[:at] + "#ifdef BILLIARD_STUB_MEAN_SPEED\ndouble mean_speed(const Velocities&) "
                              "{ throw NotImplemented(11, \"mean_speed\", \"mean_speed.cpp\"); }\n#endif\n\n" + text[at:])
+        calls = copy / "tests" / "grader" / "judge" / "calls.hpp"
+        lines = calls.read_text().splitlines(keepends=True)
+        at = next(k for k, line in enumerate(lines) if line.startswith("#define BILLIARD_COURSE_CALLS(CALL)")) + 1
+        calls.write_text("".join(lines[:at]) + "  CALL(double, mean_speed, (const Velocities& velocities), (velocities)) \\\n"
+                         + "".join(lines[at:]))
         with open(copy / "tests" / "grader" / "course.txt", "a") as course:
             course.write("11 mean_speed optional\n")
         status, output = run(["/usr/bin/python3", "tests/grader/package.py", "classroom"], cwd=copy, timeout=3600)
