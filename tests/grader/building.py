@@ -184,11 +184,16 @@ def file_digest(path):
 
 class Remembered:
     """Files made from others, kept in the build folder by a key of what they were made from, so
-    that a task file or worker made before is not made again (the oldest go first)."""
+    that a task file or worker made before is not made again (the oldest go first). Where the
+    build folder is not the grader's to write (an Autolab job's user, beside the image's build),
+    nothing is remembered."""
 
     def __init__(self, folder):
         self.folder = folder
-        folder.mkdir(parents=True, exist_ok=True)
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+        except OSError:
+            pass
 
     def recall(self, key):
         """(content, extra) saved under `key`, or None."""
@@ -196,20 +201,23 @@ class Remembered:
         try:
             extra = json.loads(entry.read_text())
             content = (self.folder / f"{key}.bin").read_bytes()
+            os.utime(entry)
         except (OSError, ValueError):
             return None
-        os.utime(entry)
         return content, extra
 
     def remember(self, key, content, extra):
-        partial = self.folder / f"{key}.bin.partial"
-        partial.write_bytes(content)
-        os.replace(partial, self.folder / f"{key}.bin")
-        write_text(self.folder / f"{key}.json", json.dumps(extra))
-        entries = sorted(self.folder.glob("*.json"), key=lambda path: path.stat().st_mtime)
-        for old in entries[:-KEPT]:
-            old.unlink(missing_ok=True)
-            old.with_suffix(".bin").unlink(missing_ok=True)
+        try:
+            partial = self.folder / f"{key}.bin.partial"
+            partial.write_bytes(content)
+            os.replace(partial, self.folder / f"{key}.bin")
+            write_text(self.folder / f"{key}.json", json.dumps(extra))
+            entries = sorted(self.folder.glob("*.json"), key=lambda path: path.stat().st_mtime)
+            for old in entries[:-KEPT]:
+                old.unlink(missing_ok=True)
+                old.with_suffix(".bin").unlink(missing_ok=True)
+        except OSError:
+            pass
 
 
 def write_text(path, text):
@@ -281,7 +289,10 @@ class Symbols:
                       "reference": {task: list(defined_symbols(objects)) for task, objects in recipe["tasks"].items()
                                     if isinstance(objects, list)},
                       "own": {task: list(defined_symbols([path])) for task, path in stubs.items()}}
-            write_text(saved, json.dumps(listed))
+            try:
+                write_text(saved, json.dumps(listed))
+            except OSError:  # not the grader's to write (an Autolab job beside the image's build)
+                pass
         self.c_library, self.cxx_library, self.grader = set(listed["c"]), set(listed["cxx"]), set(listed["grader"])
         self.reference = {task: set(names) for task, names in listed["reference"].items()}
         self.own = {task: set(names) for task, names in listed["own"].items()}
@@ -401,8 +412,8 @@ class TaskFileCompiler:
             pieces[group] = []
             for number, path in enumerate(paths):
                 target = folder / f"{number}-{Path(path).name}"
-                share(Path(path), target)
-                os.chmod(target, 0o644)
+                if not share(Path(path), target):  # a copy (a link is of a file anyone may read)
+                    os.chmod(target, 0o644)
                 pieces[group].append((target, file_digest(target)))
         return pieces
 
@@ -574,14 +585,15 @@ class TaskFileCompiler:
 
 def share(source, target):
     """A hard link of a file that anyone may read, where possible (the precompiled header is 100
-    MB), else a copy."""
+    MB), else a copy; True for a link."""
     try:
         if os.stat(source).st_mode & stat.S_IROTH:
             os.link(source, target)
-            return
+            return True
     except OSError:
         pass
     shutil.copyfile(source, target)
+    return False
 
 
 def does_not_compile(task, source, messages):

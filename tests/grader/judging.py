@@ -188,9 +188,11 @@ class Programs:
         target.unlink(missing_ok=True)
         try:
             os.link(source, target)
-        except OSError:
+            os.chmod(target, 0o711)
+        except OSError:  # another file system, or the build's file is not ours (Autolab's image)
+            target.unlink(missing_ok=True)
             shutil.copyfile(source, target)
-        os.chmod(target, 0o711)
+            os.chmod(target, 0o711)
         return target
 
     def worker_command(self, task, work, channel, cpu_limit):
