@@ -10,8 +10,8 @@ version grades as the platforms do (its package.py's PLATFORM_GRADE_OPTIONS; as 
 --protect-reference, as on Gradescope), in a build folder of its own that a first, untimed
 grading builds. Then the rounds alternate, previous then this one, so that a machine whose speed
 drifts from minute to minute drifts for both alike. Every round grades the reference solutions
-with a comment of its own added to each file, so that neither version takes a compiled file from
-an earlier round. The CPU time is that of the grader and every process it waited for (compilers,
+with a comment of its own added to each file (new at every run of the benchmark), so that neither
+version takes a compiled file from an earlier round. The CPU time is that of the grader and every process it waited for (compilers,
 linker, tests). Prints each round, the median ratio this / previous, and the machine; exit
 status 1 if a version does not give the reference solutions full points.
 """
@@ -122,11 +122,14 @@ def main(argv=None):
         grade(tree, reference_copy(tree, work / name / "submission", "warm-up"), work / name, options[name],
               arguments.one_core)
     rows = []
+    run_mark = os.urandom(8).hex()
     print(f"\n{'round':>5}  {'previous CPU s':>14}  {'this CPU s':>10}  {'ratio':>6}  (wall s: previous, this)")
     for round_number in range(1, arguments.rounds + 1):
         row = {}
         for name, tree in versions.items():
-            submission = reference_copy(tree, work / name / "submission", f"round {round_number}")
+            # A mark of its own each round and run: a grader that remembers compiled files by their
+            # text compiles them all the same.
+            submission = reference_copy(tree, work / name / "submission", f"round {round_number} of run {run_mark}")
             cpu, wall, score, maximum = grade(tree, submission, work / name, options[name], arguments.one_core)
             if score != maximum:
                 print(f"grade_bench: the {name} grader gave the reference solutions {score} of {maximum} points")

@@ -153,6 +153,16 @@ def waiting_seconds(pid):
         return None
 
 
+def pin(pid, cpu):
+    """Keeps a process on one processor (where the system lets the grader choose)."""
+    if cpu is None:
+        return
+    try:
+        os.sched_setaffinity(pid, {cpu})
+    except OSError:
+        pass
+
+
 def kill_process_group(pid):
     try:
         os.killpg(pid, signal.SIGKILL)
@@ -195,8 +205,9 @@ class Programs:
             os.chmod(target, 0o711)
         return target
 
-    def worker_command(self, task, work, channel, cpu_limit):
-        """The command that starts a test's worker in the task's cell, with the test's socket."""
+    def worker_command(self, task, work, pipes, cpu_limit):
+        """The command that starts a test's worker in the task's cell, with the test's pipes from
+        and to its judge (descriptors 3 and 4 there)."""
         if task in PROGRAM_TASKS:
             program = [self.runner, self.cells.bin / task / "program"]
             reads, no_fork = [self.runner, self.cells.bin / task], False
@@ -204,7 +215,8 @@ class Programs:
             program = [self.cells.bin / task / "worker"]
             reads, no_fork = [self.cells.bin / task], True
         return self.cells.command(
-            task, program, directory=work, reads=reads, writes=[work], no_fork=no_fork, descriptors={channel: 3},
+            task, program, directory=work, reads=reads, writes=[work], no_fork=no_fork,
+            descriptors={pipes[0]: 3, pipes[1]: 4},
             limits=Limits(cpu_seconds=cpu_limit + 1, memory_bytes=WORKER_MEMORY, file_bytes=WORKER_FILE_BYTES,
                           open_files=WORKER_OPEN_FILES, processes=WORKER_PROCESSES))
 
@@ -224,7 +236,7 @@ class TestServer:
     every test still runs alone while starting costs a fork instead of a new program. One server
     runs one test at a time; each of the grader's threads has its own."""
 
-    def __init__(self, programs, task, processes):
+    def __init__(self, programs, task, processes, cpu=None):
         self.control, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
         cells = programs.cells
         environment = {"BILLIARD_EXPECTED_PROGRAM": programs.expected[task]} if task in programs.expected else {}
@@ -238,16 +250,18 @@ class TestServer:
                 stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, pass_fds=(theirs.fileno(),))
         finally:
             theirs.close()
+        pin(self.process.pid, cpu)  # the tests it forks stay there
+        self.cpu = cpu
         self.processes = processes
         self.output = self.process.stdout.fileno()
         self.control.setblocking(False)
         os.set_blocking(self.output, False)
         self.alive = True
 
-    def run(self, name, folder, cpu_limit, wall_limit, variables, worker, worker_output, channel, work):
+    def run(self, name, folder, cpu_limit, wall_limit, variables, worker, worker_output, pipes, work):
         """Runs one test (see --serve) within its limits, with `worker` (a process started for it
-        in the folder `work`, its output on `worker_output`) at the other end of `channel`.
-        Returns a Run."""
+        in the folder `work`, its output on `worker_output`) at the other ends of `pipes` (to it,
+        from it). Returns a Run."""
         run = Run()
         started = time.monotonic()
         looked = started
@@ -271,7 +285,7 @@ class TestServer:
 
         message = " ".join([name, folder, f"{cpu_limit:.3f}", *variables]).encode()
         try:
-            socket.send_fds(self.control, [message], [channel.fileno()])
+            socket.send_fds(self.control, [message], list(pipes))
         except OSError:
             self.alive = False
         while run.status is None:
@@ -446,12 +460,20 @@ class TestServers:
         self.local = threading.local()
         self.all = []
         self.lock = threading.Lock()
+        self.cpus = sorted(os.sched_getaffinity(0))
+        self.slots = 0
 
     def get(self, task):
+        """The test server of `task` for this thread, on this thread's processor: the grader's
+        threads take the processors in turn, and a test's judge and worker share one."""
         servers = self.local.__dict__.setdefault("servers", {})
+        if "cpu" not in self.local.__dict__:
+            with self.lock:
+                self.local.cpu = self.cpus[self.slots % len(self.cpus)]
+                self.slots += 1
         server = servers.get(task)
         if server is None or not server.alive:
-            server = TestServer(self.programs, task, self.processes)
+            server = TestServer(self.programs, task, self.processes, self.local.cpu)
             servers[task] = server
             with self.lock:
                 self.all.append(server)
@@ -472,22 +494,26 @@ def run_test(test, programs, servers, processes, cpu_limit, wall_limit, why, clo
     variables = [f"BILLIARD_TEST_TIME_LIMIT={wall_limit:g}"] if test.task in PROGRAM_TASKS else []
     if test.visibility != "hidden":  # a hidden test draws nothing, so nothing of it can show
         variables.append(f"BILLIARD_PICTURES={PICTURES}")
-    channel, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_STREAM)
+    # A pipe each way between judge and worker, and one for what the worker prints.
+    from_judge, to_worker = os.pipe()
+    from_worker, to_judge = os.pipe()
     output, output_end = os.pipe()
+    server = servers.get(test.task)
     try:
-        worker = processes.start(programs.worker_command(test.task, work, theirs.fileno(), cpu_limit),
+        worker = processes.start(programs.worker_command(test.task, work, (from_judge, to_judge), cpu_limit),
                                  stdin=subprocess.DEVNULL, stdout=output_end, stderr=output_end,
-                                 pass_fds=(theirs.fileno(),))
+                                 pass_fds=(from_judge, to_judge))
+        pin(worker.pid, server.cpu)  # beside its judge: a call's round trip on one processor is cheap
     finally:
-        theirs.close()
-        os.close(output_end)
+        for fd in (from_judge, to_judge, output_end):
+            os.close(fd)
     os.set_blocking(output, False)
     try:
-        server = servers.get(test.task)
-        run = server.run(test.name, judged.name, cpu_limit, wall_limit, variables, worker, output, channel, work)
+        run = server.run(test.name, judged.name, cpu_limit, wall_limit, variables, worker, output,
+                         (to_worker, from_worker), work)
     finally:
-        channel.close()
-        os.close(output)
+        for fd in (to_worker, from_worker, output):
+            os.close(fd)
         processes.stop_orphans()  # what left its group
     test.seconds = run.seconds
     test.cpu_seconds = run.judge_cpu + run.worker_cpu

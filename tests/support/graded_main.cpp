@@ -12,7 +12,7 @@
 //   --serve=FD              the grader's test server (tests/grader/grade.py). FD is a socket of
 //                           datagrams (SOCK_SEQPACKET) to the grader, one message each way:
 //                             grader: "NAME FOLDER CPU_SECONDS [VARIABLE=VALUE...]", with the
-//                                     test's channel to its worker attached (SCM_RIGHTS)
+//                                     test's pipes to and from its worker attached (SCM_RIGHTS)
 //                             server: "ready" once, then for each test "started PID", the
 //                                     test's own "verdict passed" or "verdict failed", and
 //                                     "ended WAIT_STATUS CPU_MICROSECONDS"
@@ -41,6 +41,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -156,11 +157,22 @@ void report(int grader, const std::string& message) {
   }
 }
 
-// Receives one message from the grader and the descriptor attached to it (-1 if none); false
-// when the grader has closed the socket.
-bool receive(int grader, std::string& message, int& attached) {
+// The pipes of a test to and from its worker, as the grader attaches them to its message.
+struct Worker {
+  int to = -1, from = -1;
+  void close() {
+    for (int fd : {to, from}) {
+      if (fd >= 0) ::close(fd);
+    }
+    to = from = -1;
+  }
+};
+
+// Receives one message from the grader and the descriptors attached to it; false when the
+// grader has closed the socket.
+bool receive(int grader, std::string& message, Worker& worker) {
   char text[8192];
-  alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int))];
+  alignas(cmsghdr) char control[CMSG_SPACE(2 * sizeof(int))];
   iovec part{text, sizeof text};
   msghdr header{};
   header.msg_iov = &part;
@@ -172,15 +184,19 @@ bool receive(int grader, std::string& message, int& attached) {
   }
   if (size <= 0) return false;
   message.assign(text, static_cast<std::size_t>(size));
-  attached = -1;
+  worker = Worker{};
   for (cmsghdr* item = CMSG_FIRSTHDR(&header); item != nullptr; item = CMSG_NXTHDR(&header, item)) {
-    if (item->cmsg_level == SOL_SOCKET && item->cmsg_type == SCM_RIGHTS) std::memcpy(&attached, CMSG_DATA(item), sizeof attached);
+    if (item->cmsg_level == SOL_SOCKET && item->cmsg_type == SCM_RIGHTS &&
+        item->cmsg_len == CMSG_LEN(2 * sizeof(int))) {
+      std::memcpy(&worker.to, CMSG_DATA(item), sizeof(int));
+      std::memcpy(&worker.from, CMSG_DATA(item) + sizeof(int), sizeof(int));
+    }
   }
   return true;
 }
 
 // Runs the one test `name` in this (forked) process and ends it, reporting its verdict.
-[[noreturn]] void run_one_test(std::istringstream& words, const std::string& name, int grader, int worker) {
+[[noreturn]] void run_one_test(std::istringstream& words, const std::string& name, int grader, Worker worker) {
   std::string work;
   double cpu_seconds = 0;
   words >> work >> cpu_seconds;
@@ -202,7 +218,8 @@ bool receive(int grader, std::string& message, int& attached) {
     ::setenv("TMPDIR", here, 1);
     std::free(here);
   }
-  if (worker >= 0) billiard::testing::use_worker(worker);
+  ::signal(SIGPIPE, SIG_IGN);  // a worker that has ended is a failed call, not the end of the judge
+  if (worker.to >= 0) billiard::testing::use_worker(worker.to, worker.from);
   GTEST_FLAG_SET(filter, name);
   const int status = RUN_ALL_TESTS();
   const auto* unit = ::testing::UnitTest::GetInstance();
@@ -222,17 +239,17 @@ int serve(int grader) {
   std::fflush(nullptr);  // what the program printed so far must not be repeated by each test
   report(grader, "ready");
   std::string line;
-  int worker = -1;
+  Worker worker;
   while (receive(grader, line, worker)) {
     std::istringstream words(line);
     std::string name;
     if (!(words >> name)) {
-      if (worker >= 0) ::close(worker);
+      worker.close();
       continue;
     }
     const pid_t pid = ::fork();
     if (pid == 0) run_one_test(words, name, grader, worker);
-    if (worker >= 0) ::close(worker);
+    worker.close();
     if (pid < 0) {
       report(grader, "ended -1 0");
       continue;

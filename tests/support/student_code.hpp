@@ -14,8 +14,9 @@
 
 namespace billiard::testing {
 
-// The judge's channel to the running test's worker (grader only; once per test process).
-void use_worker(int channel);
+// The judge's channels to the running test's worker, a pipe each way (grader only; once per test
+// process).
+void use_worker(int to_worker, int from_worker);
 
 // Runs a program task's program with `arguments` in a folder that holds only `inputs` (file
 // name, content): its output, status and time, as cli::run_program gives them.

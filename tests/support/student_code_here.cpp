@@ -14,7 +14,7 @@ namespace billiard::testing {
 
 namespace fs = std::filesystem;
 
-void use_worker(int) {
+void use_worker(int, int) {
   throw std::logic_error("this suite runs the student's code in its own process; only the grader's judge uses workers");
 }
 

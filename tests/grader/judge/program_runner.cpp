@@ -1,5 +1,5 @@
 // The worker of a program task (the C track): answers the judge's runs of the student's program
-// (proxy.cpp, run_student_program) on descriptor 3, one at a time, until the judge closes it.
+// (proxy.cpp, run_student_program) on descriptors 3 (in) and 4 (out), one at a time, until the judge closes them.
 //
 //   program_runner PROGRAM
 //
@@ -30,7 +30,8 @@ using billiard::judge::ProgramRun;
 using billiard::judge::Reader;
 using billiard::judge::Writer;
 
-constexpr int kChannel = 3;
+// The pipes from and to the judge.
+constexpr int kFromJudge = 3, kToJudge = 4;
 constexpr std::size_t kOutputBytes = 1u << 20;  // of each stream, sent back per run
 
 void forbid_new_processes() {
@@ -70,11 +71,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string program = fs::absolute(argv[1]).string();
-  ::fcntl(kChannel, F_SETFD, FD_CLOEXEC);  // the program's runs never see the judge's channel
+  for (const int fd : {kFromJudge, kToJudge}) ::fcntl(fd, F_SETFD, FD_CLOEXEC);  // the program never sees them
   for (int number = 1;; ++number) {
     std::string message;
     try {
-      message = billiard::judge::receive(kChannel);
+      message = billiard::judge::receive(kFromJudge);
     } catch (const billiard::judge::ProtocolError&) {
       return 0;  // the judge is done with this test
     }
@@ -88,6 +89,6 @@ int main(int argc, char** argv) {
     } catch (...) {
       billiard::judge::write_current_exception(reply);
     }
-    billiard::judge::send(kChannel, reply.bytes());
+    billiard::judge::send(kToJudge, reply.bytes());
   }
 }

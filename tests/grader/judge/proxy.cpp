@@ -25,7 +25,7 @@ namespace billiard {
 namespace judge {
 namespace {
 
-int channel = -1;
+int to_worker = -1, from_worker = -1;
 bool gone = false;
 
 struct WorkerGone {};
@@ -43,11 +43,11 @@ struct WorkerGone {};
 
 // Sends a call and receives the worker's answer.
 Reader call_worker(const Writer& request, const std::string& call) {
-  if (channel < 0) throw std::logic_error("the grader's judge has no worker to call " + call);
+  if (to_worker < 0) throw std::logic_error("the grader's judge has no worker to call " + call);
   if (gone) throw WorkerGone{};
   try {
-    send(channel, request.bytes());
-    return Reader(receive(channel));
+    send(to_worker, request.bytes());
+    return Reader(receive(from_worker));
   } catch (const ProtocolError&) {
     worker_gone(call, "");
   }
@@ -146,8 +146,9 @@ struct Forward<Function> {
 
 namespace testing {
 
-void use_worker(int worker_channel) {
-  judge::channel = worker_channel;
+void use_worker(int to_worker, int from_worker) {
+  judge::to_worker = to_worker;
+  judge::from_worker = from_worker;
   judge::gone = false;
 }
 

@@ -1,4 +1,5 @@
-// The judge's protocol with the worker: messages of plain data over a socket. The judge (the
+// The judge's protocol with the worker: messages of plain data over a pipe each way (a pipe's
+// round trip takes half a socket's on one core: a test may make tens of thousands). The judge (the
 // graded suite's process) sends a call of a course function with its arguments; the worker (the
 // process with the student's code, in its cell) makes the call and sends back what it returned or
 // threw, and the arguments it may change. Nothing else crosses: whatever the student's code does

@@ -1,8 +1,8 @@
 // The worker: the process in which the student's code runs under the grader, linked with the
 // student's task file and the code of the other tasks (the reference's, as compiled objects, or
-// the student's own). It answers the judge's calls (proxy.cpp) one at a time on descriptor 3
-// until the judge closes it: reads a call, makes it, and sends back the arguments the call may
-// change and what it returned or threw. Whatever else the student's code does here (print,
+// the student's own). It answers the judge's calls (proxy.cpp) one at a time, on descriptors 3
+// (in) and 4 (out), until the judge closes them: reads a call, makes it, and sends back the
+// arguments the call may change and what it returned or threw. Whatever else the student's code does here (print,
 // exit, crash, write to the channel itself) costs only this test's answers.
 //
 // It runs in a cell (tests/grader/cell/cell.c): its own folder, which holds the files of the
@@ -30,7 +30,8 @@ using judge::is_path;
 using judge::Reader;
 using judge::Writer;
 
-constexpr int kChannel = 3;
+// The pipes from and to the judge.
+constexpr int kFromJudge = 3, kToJudge = 4;
 
 // Makes `call`, then writes what `changed` writes (the arguments the call may change, whether it
 // returned or threw) and how the call ended: Ending::returned and its value, or what it threw.
@@ -109,7 +110,7 @@ int main() {
   for (;;) {
     std::string message;
     try {
-      message = judge::receive(kChannel);
+      message = judge::receive(kFromJudge);
     } catch (const judge::ProtocolError&) {
       return 0;  // the judge is done with this test
     }
@@ -118,6 +119,6 @@ int main() {
     serve(request, reply);
     std::cout.flush();
     std::fflush(nullptr);  // what the code printed reaches the grader before the answer's end
-    judge::send(kChannel, reply.bytes());
+    judge::send(kToJudge, reply.bytes());
   }
 }
