@@ -518,9 +518,10 @@ def run_test(test, programs, servers, processes, cpu_limit, wall_limit, why, clo
     test.seconds = run.seconds
     test.cpu_seconds = run.judge_cpu + run.worker_cpu
     test.passed = not run.stopped and run.status == 0 and run.verdict == "passed"
-    # Stopped by the kernel for its CPU time (several busy threads) is not finishing either.
-    test.unfinished = (run.stopped and not run.too_much_written) or (
-        run.worker_status in (-signal.SIGXCPU, -signal.SIGKILL) and run.worker_cpu >= cpu_limit)
+    # Stopped by the kernel for its CPU time (its limit there is a backstop, a second above the
+    # test's: several busy threads, or a grader too busy to look in time) is not finishing either.
+    test.unfinished = (run.stopped and not run.too_much_written) or run.worker_status == -signal.SIGXCPU or (
+        run.worker_status == -signal.SIGKILL and run.worker_cpu >= cpu_limit)
     test.feedback = cap(feedback(test, run, cpu_limit, why, clock), FEEDBACK_CAP)
     test.picture = keep_picture(test, judged, cells.root)
     shutil.rmtree(judged, ignore_errors=True)

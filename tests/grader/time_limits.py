@@ -7,7 +7,7 @@ scripts do it when they grade the reference solutions), then gives
 
   - each test MARGIN times the CPU time the reference takes for it, at least MIN_TEST_SECONDS;
   - each task MARGIN times the reference's time for the whole task (compiling its file, linking
-    its suite, running its tests), at least MIN_TASK_SECONDS: the task's budget.
+    its worker, running its tests), at least MIN_TASK_SECONDS: the task's budget.
 
 So correct code several times slower than the reference passes on a fast machine and on a slow
 one, and an endless loop still costs only its own task. Without the reference solutions (the
@@ -182,7 +182,7 @@ def save_reference_times(build_folder, print_, tasks):
 
 
 class TaskClock:
-    """The time one task may take: compiling its file, linking its suite and running its tests.
+    """The time one task may take: compiling its file, linking its worker and running its tests.
 
     Tests of a task may run at the same time; each reserves its wall-time limit from the budget
     before it starts and gives back what it did not use, so that the durations of a task's tests

@@ -363,7 +363,7 @@ class Bounds(unittest.TestCase):
         self.assertEqual(limits.MARGIN, 10, "the instructors' guide says 'ten times'")
         statements = [
             f"each test ten times the CPU time the reference takes for it (at least {limits.MIN_TEST_SECONDS:g} s)",
-            f"(compiling its file, linking its suite, running its tests; at least {limits.MIN_TASK_SECONDS:g} s)",
+            f"(compiling its file, linking its worker, running its tests; at least {limits.MIN_TASK_SECONDS:g} s)",
             "stopped after twice its limit of time spent",
             f"`--total {package.PLATFORM_TOTAL}`",
             f"budgets adding up to at most {package.PLATFORM_TOTAL} s",

@@ -1,9 +1,9 @@
 // Attack: find the grader's secret in memory. The old harness kept a token in the test's own
 // process; this searches its environment, every readable page of its own memory, and the
-// command lines, environments and memory of every other process it can open for "token",
-// "verdict" or "passed", and sends what it finds as "verdict passed" on every descriptor. It
-// prints what it found, so that a leak would show, and bytes that no report's format takes as
-// they are. The function itself only throws.
+// command lines, environments and memory of every other process it can open for a "token",
+// and sends what it finds as "verdict passed" on every descriptor. It prints what it found, so
+// that a leak would show, and bytes that no report's format takes as they are. The function
+// itself only throws.
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -26,7 +26,7 @@ namespace {
 std::string found;
 
 void search(const std::string& text, const std::string& where) {
-  for (const char* word : {"TOKEN", "token", "verdict"}) {
+  for (const char* word : {"TOKEN", "token"}) {
     const auto at = text.find(word);
     if (at != std::string::npos) found += where + ": " + text.substr(at, 80) + "\n";
   }
