@@ -386,9 +386,16 @@ class Bounds(unittest.TestCase):
             f"{package.AUTOLAB_PREBUILT_ALLOWANCE} s for the rest; the driver stops the grader after "
             f"{package.AUTOLAB_PREBUILT_CUTOFF} s), within Autolab's default autograding timeout of "
             f"{package.AUTOLAB_DEFAULT_TIMEOUT} s",
-            f"Every task's budget there is the {limits.MIN_TASK_SECONDS:g} s floor: "
-            f"{len(TASKS) * limits.MIN_TASK_SECONDS:g} s for the {len(TASKS)} tasks of `course.txt`",
         ]
+        # The measured budgets are the floor but for one task; their sum is that arithmetic's.
+        measured = re.search(r"Budgets there are the (\d+) s floor for every task but `(\w+)` \((\d+) s\): "
+                             r"(\d+) s for the (\d+) tasks of `course.txt`", readme)
+        self.assertIsNotNone(measured, "the guide no longer states the measured budgets")
+        floor, task, budget, total, count = measured.groups()
+        self.assertEqual(float(floor), limits.MIN_TASK_SECONDS)
+        self.assertIn(task, TASKS)
+        self.assertEqual(int(count), len(TASKS))
+        self.assertEqual(int(total), (len(TASKS) - 1) * int(floor) + int(budget))
         self.assertEqual(limits.WALL_SLACK, 2, "the instructors' guide says 'twice'")
         missing = [statement for statement in statements if statement not in readme]
         self.assertEqual(missing, [], "tests/grader/README.md does not say these (or says other numbers)")
