@@ -206,12 +206,13 @@ void settles_to_a_packed_bed(const Settling p) {
               asleep_from, fraction);
 }
 
+// One setting in the full run; the others, each several seconds, with the long runs (label stress).
 TEST(GranularSettling, BoxRestitution50) { settles_to_a_packed_bed({"box", 0.5}); }
-TEST(GranularSettling, BoxRestitution80) { settles_to_a_packed_bed({"box", 0.8}); }
-TEST(GranularSettling, BoxRestitution95) { settles_to_a_packed_bed({"box", 0.95}); }
-TEST(GranularSettling, TableRestitution50) { settles_to_a_packed_bed({"table", 0.5}); }
-TEST(GranularSettling, TableRestitution80) { settles_to_a_packed_bed({"table", 0.8}); }
-TEST(GranularSettling, TableRestitution95) { settles_to_a_packed_bed({"table", 0.95}); }
+TEST(GranularSettling, StressBoxRestitution80) { settles_to_a_packed_bed({"box", 0.8}); }
+TEST(GranularSettling, StressBoxRestitution95) { settles_to_a_packed_bed({"box", 0.95}); }
+TEST(GranularSettling, StressTableRestitution50) { settles_to_a_packed_bed({"table", 0.5}); }
+TEST(GranularSettling, StressTableRestitution80) { settles_to_a_packed_bed({"table", 0.8}); }
+TEST(GranularSettling, StressTableRestitution95) { settles_to_a_packed_bed({"table", 0.95}); }
 
 TEST(Granular, FreelyCoolingGasFollowsHaffsLaw) {
   // Homogeneous cooling (Haff): T(tau) = T0 exp(-(1 - e^2) tau / 2), tau the collisions per disc.

@@ -222,6 +222,7 @@ void exactly_filled_box_falls_asleep(double restitution) {
 
 }  // namespace
 
+// The livelier boxes take several seconds each: with the long runs (label stress).
 TEST(Sleeping, ExactlyFilledBoxFallsAsleepRestitution50) { exactly_filled_box_falls_asleep(0.5); }
-TEST(Sleeping, ExactlyFilledBoxFallsAsleepRestitution80) { exactly_filled_box_falls_asleep(0.8); }
-TEST(Sleeping, ExactlyFilledBoxFallsAsleepRestitution95) { exactly_filled_box_falls_asleep(0.95); }
+TEST(Sleeping, StressExactlyFilledBoxFallsAsleepRestitution80) { exactly_filled_box_falls_asleep(0.8); }
+TEST(Sleeping, StressExactlyFilledBoxFallsAsleepRestitution95) { exactly_filled_box_falls_asleep(0.95); }
