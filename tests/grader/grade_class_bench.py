@@ -51,7 +51,7 @@ def main():
     arguments = parser.parse_args()
     tasks = TASKS if arguments.all_tasks else test_class.GRADED
     work = Path(tempfile.mkdtemp(prefix="billiard-class-bench-"))
-    students = test_class.the_class()
+    students = test_class.the_class(mutants_per_task=None)
     if arguments.distinct:
         students = {student: {TASK_FILE[task]: files.get(TASK_FILE[task], (REPO / "solutions" / TASK_FILE[task]).read_bytes())
                               + f"\n/* {student} */\n".encode() for task in TASKS}
