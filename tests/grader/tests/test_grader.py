@@ -538,18 +538,32 @@ Velocities init_velocities(int, const Coordinates&, Rng&) {{
 
 
 class Mutants(unittest.TestCase):
-    def test_every_mutant_loses_points_only_in_its_own_task(self):
-        """...and the first visible test of its task that fails leads with a hint naming the bug, for
-        every mutant that models a student's mistake (its "Lead hint names:" line); at least five
-        such mutants per task. In a task where a state evolves, that test draws its failing case:
-        the picture is read back and checked against the message (picture_problems)."""
+    """Every mutant loses points only in its own task, and the first visible test of its task that
+    fails leads with a hint naming the bug, for every mutant that models a student's mistake (its
+    "Lead hint names:" line); at least five such mutants per task. In a task where a state
+    evolves, that test draws its failing case: the picture is read back and checked against the
+    message (picture_problems). The required tasks' mutants run in the full run; the optional
+    tasks' (the stages, the C track), as many again, with the long runs (label stress)."""
+
+    def test_every_mutant_of_a_required_task_loses_points_only_in_its_own_task(self):
+        tasks = [task for task in TASKS if not course.is_optional(task)]
+        self.assertTrue(tasks, "course.txt requires no task")
+        self.check_mutants(tasks, at_least=20)
+
+    def test_every_mutant_of_an_optional_task_loses_points_only_in_its_own_task(self):
+        tasks = [task for task in TASKS if course.is_optional(task)]
+        if not tasks:
+            self.skipTest("course.txt has no optional task")
+        self.check_mutants(tasks, at_least=5 * len(tasks))
+
+    def check_mutants(self, tasks, at_least):
         self.assertTrue(Path(SVG_CIRCLES).is_file() or not PICTURE_TASKS, "BILLIARD_SVG_CIRCLES names no program")
-        # The mutants of the tasks this course grades (course.txt may switch stages off).
+        # The mutants of these tasks (course.txt may switch stages off).
         mutants = sorted(mutant for mutant in (REPO / "tests" / "mutants").glob("*/*.mutant")
-                         if mutant.parent.name in TASKS)
-        self.assertGreaterEqual(len(mutants), 20)
+                         if mutant.parent.name in tasks)
+        self.assertGreaterEqual(len(mutants), at_least)
         problems = []
-        with_lead = {task: 0 for task in TASKS}
+        with_lead = {task: 0 for task in tasks}
         pictures = 0
         for mutant in mutants:
             task = mutant.parent.name
