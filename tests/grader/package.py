@@ -9,9 +9,11 @@
 
 The packages hold the project's source as git has it (tracked files and new files git does not
 ignore; without git, every file), without build/ and tests/mutants/; the grading itself is
-tests/grader/grade.py's, run with the reference code for the other tasks. classroom and autolab
-read each task's maximum points from the graded suites (`test_<task> --list-graded`), built
-with the release preset unless --tests names a folder that holds them.
+tests/grader/grade.py's, run with the reference code for the other tasks. gradescope, autolab
+and classroom read each task's maximum points from the graded suites (`test_<task>
+--list-graded`), built with the release preset unless --tests names a folder that holds them,
+and print the points to set on the platform: the required tasks' total, and the optional tasks'
+extra credit.
 
 Inside the packages, the platforms run this script again (not for instructors' use):
 
@@ -185,6 +187,33 @@ def task_points(tests_folder=None, hidden=True):
     return points
 
 
+def points_to_enter(points, platform, total_counts_optional=False):
+    """The lines that tell the instructor what to set on the platform: the assignment's total (the
+    required tasks' points) and the optional tasks' points, extra credit on top of it; or, where
+    the platform adds every task into its total (total_counts_optional), that total and its parts."""
+    required = [task for task in TASKS if not course.is_optional(task)]
+    optional = [task for task in TASKS if course.is_optional(task)]
+
+    def total(tasks):
+        return sum(points[task] for task in tasks)
+
+    def each(tasks):
+        return ", ".join(f"{task} {points[task]}" for task in tasks)
+    if total_counts_optional:
+        lines = [f"{platform}: the steps add up to {total(TASKS)} points: {total(required)} for the required tasks "
+                 f"({each(required)})"]
+        if optional:
+            lines.append(f"  and {total(optional)} for the optional ones ({each(optional)}), which {platform} "
+                         "counts in its total")
+    else:
+        lines = [f"{platform}: set the assignment's total to {total(required)} points, the required tasks' "
+                 f"({each(required)})"]
+        if optional:
+            lines.append(f"  the optional tasks' {total(optional)} points ({each(optional)}) come on top as extra "
+                         "credit")
+    return "\n".join(lines)
+
+
 # --- GitHub Classroom --------------------------------------------------------------------------
 
 def step_id(task):
@@ -244,7 +273,8 @@ def classroom_workflow(points):
 
 def command_classroom(arguments):
     # The steps run in the student's repository, which has no hidden tests (tests/graded/hidden/).
-    text = classroom_workflow(task_points(arguments.tests, hidden=False))
+    points = task_points(arguments.tests, hidden=False)
+    text = classroom_workflow(points)
     target = REPO / WORKFLOW
     if arguments.check:
         current = target.read_text() if target.is_file() else ""
@@ -259,6 +289,7 @@ def command_classroom(arguments):
     target.parent.mkdir(parents=True, exist_ok=True)
     target.write_text(text)
     print(f"wrote {target}")
+    print(points_to_enter(points, "GitHub Classroom", total_counts_optional=True))
     return 0
 
 
@@ -317,6 +348,7 @@ def command_gradescope(arguments):
     out = Path(arguments.out).resolve()
     files = project_files()
     check_sources(files)
+    points = task_points(arguments.tests)
     out.parent.mkdir(parents=True, exist_ok=True)
     partial = out.with_name(out.name + ".partial")
     with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as archive:
@@ -328,6 +360,7 @@ def command_gradescope(arguments):
             add_to_zip(archive, path, (REPO / path).read_bytes(), file_mode(path))
     os.replace(partial, out)
     print(f"wrote {out}: setup.sh, run_autograder and {len(files)} files of the project")
+    print(points_to_enter(points, "Gradescope"))
     print(gradescope_bound())
     return 0
 
@@ -715,6 +748,7 @@ def command_autolab(arguments):
     print("Autolab problems (names and maximum scores):")
     for task in TASKS:
         print(f"  {task}  {points[task]}" + ("  (optional: extra credit)" if course.is_optional(task) else ""))
+    print(points_to_enter(points, "Autolab"))
     print(f"Autolab settings: handin file name handin.tar. Autograding image: run autograding-image.sh where it is "
           f"built; then the default autograding timeout of {AUTOLAB_DEFAULT_TIMEOUT} s is enough. Without it, set "
           f"the timeout to {AUTOLAB_TIMEOUT} s (the most Autolab allows).")
@@ -834,6 +868,7 @@ def parse_arguments(argv):
     tests_help = "folder with the built graded suites test_<task> (default: build them with the release preset)"
     command = commands.add_parser("gradescope", help="the Gradescope autograder zip")
     command.add_argument("out", metavar="OUT.zip")
+    command.add_argument("--tests", type=Path, help=tests_help)
     command = commands.add_parser("autolab", help="Autolab's autograde-Makefile and autograde.tar")
     command.add_argument("out", metavar="OUT_DIR")
     command.add_argument("--tests", type=Path, help=tests_help)

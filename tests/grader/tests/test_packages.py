@@ -631,6 +631,29 @@ GRADED_TEST(MeanSpeed, NoCircles, 1, after_due_date) {
                                  if test["name"].startswith("mean_speed:")), 3)
 
 
+class PointsToEnter(unittest.TestCase):
+    def test_each_package_prints_the_points_to_set_on_its_platform(self):
+        """gradescope and autolab print the assignment's total, the required tasks' points with
+        their hidden tests, and the optional tasks' points as extra credit; classroom prints the
+        total of its steps (GitHub Classroom adds them all), without hidden tests."""
+        folder = fresh(WORK / "points-to-enter")
+        required = [task for task in TASKS if not course.is_optional(task)]
+        optional = [task for task in TASKS if course.is_optional(task)]
+
+        def total(points, tasks):
+            return sum(points[task] for task in tasks)
+        for platform, command in [("Gradescope", ["gradescope", str(folder / "autograder.zip")]),
+                                  ("Autolab", ["autolab", str(folder / "autolab")])]:
+            listing = " ".join(package_command(*command, "--tests", str(TESTS)).split())
+            self.assertIn(f"{platform}: set the assignment's total to {total(maxima(), required)} points", listing)
+            if optional:
+                self.assertIn(f"the optional tasks' {total(maxima(), optional)} points", listing)
+                self.assertIn("come on top as extra credit", listing)
+        steps = package.points_to_enter(maxima(hidden=False), "GitHub Classroom", total_counts_optional=True)
+        self.assertIn(f"the steps add up to {total(maxima(hidden=False), TASKS)} points: "
+                      f"{total(maxima(hidden=False), required)} for the required tasks", steps)
+
+
 class Classroom(unittest.TestCase):
     def test_committed_workflow_is_the_generated_one(self):
         status, output = run(["/usr/bin/python3", str(GRADER / "package.py"), "classroom", "--tests", str(TESTS), "--check"])
@@ -779,7 +802,7 @@ class Gradescope(unittest.TestCase):
     def set_up_autograder(self):
         base = fresh(WORK / "gradescope")
         zip_path = base / "autograder.zip"
-        listing = package_command("gradescope", str(zip_path))
+        listing = package_command("gradescope", str(zip_path), "--tests", str(TESTS))
         # The stated bound, the driver's cut-off and Gradescope's default limit of 10 minutes, in order.
         bound = package.PLATFORM_TOTAL + package.GRADESCOPE_BUILD_ALLOWANCE
         self.assertLess(bound, package.GRADESCOPE_CUTOFF)
