@@ -38,8 +38,9 @@ only those tasks are graded (the others keep what earlier runs gave, or stay emp
 
 Written to --results (default build/grade/class/): students/<student>/ with the platforms'
 results.json and junit.xml, report.html and the pictures of the failing cases (what the student
-may see: hidden tests without name or message) and the grader's log; gradebook.csv (one row per student: a column per task of course.txt in
-course order, `total` of the required tasks, `optional`); tests.csv (one row per graded test:
+may see: hidden tests without name or message) and the grader's log; gradebook.csv (first a row "Points Possible" with each column's maximum, then one
+row per student: a column per task of course.txt in course order, `total` of the required tasks,
+`optional`); tests.csv (one row per graded test:
 how many students failed it, the most common first failure message and one student's picture of
 it); report.html (one page
 for the instructor, with figures: the totals, each task's points, the tests the class fails
@@ -75,6 +76,7 @@ from course import NOT_WRITTEN, OPTIONAL, TASK_FILE, TASK_NUMBER, TASKS
 
 REPO = building.REPO
 DEFAULT_RESULTS = REPO / "build" / "grade" / "class"
+MAXIMA_ROW = "Points Possible"  # the gradebook's row of each column's maximum
 # Seconds one student's grading may take before it counts as failed (and is tried again on the
 # next run): the platforms' bound, plus a worker's first build of the grader.
 STUDENT_CUTOFF = package.AUTOLAB_CUTOFF
@@ -533,6 +535,9 @@ def lead_line(feedback):
 
 def write_reports(folder, students, graded):
     counted = [task for task in TASKS if task not in OPTIONAL]
+    # The maxima, as the gradebook's first row, where spreadsheets and learning platforms
+    # (Canvas's "Points Possible") look for them: a task's from any record of it.
+    maxima = {task: record["maximum"] for records in graded.values() for task, record in records.items()}
     rows = []
     for student in students:
         records = graded.get(student.name)
@@ -545,14 +550,15 @@ def write_reports(folder, students, graded):
     with open(folder / "gradebook.csv.partial", "w", newline="") as out:
         writer = csv.DictWriter(out, ["student", *TASKS, "total", "optional"])
         writer.writeheader()
+        writer.writerow({"student": MAXIMA_ROW, **{task: maxima.get(task, "") for task in TASKS},
+                         "total": sum(maxima.get(t, 0) for t in counted),
+                         "optional": sum(maxima.get(t, 0) for t in TASKS if t in OPTIONAL)})
         writer.writerows(rows)
     os.replace(folder / "gradebook.csv.partial", folder / "gradebook.csv")
 
     tests = collections.OrderedDict()  # (task, name) -> {points, visibility, failed, messages, pictures}
-    maxima = {}
     for student in students:
         for task, record in graded.get(student.name, {}).items():
-            maxima[task] = record["maximum"]
             if record["problem"]:
                 entry = tests.setdefault((task, "(builds)"), {"points": record["maximum"], "visibility": "visible",
                                                               "failed": 0, "not_written": 0,

@@ -122,11 +122,16 @@ def write_layout(layout, students, folder):
     return names
 
 
-def gradebook(results):
-    """{student: {task: points}} from a class's gradebook.csv (the graded tasks)."""
+def gradebook(results, maxima=False):
+    """{student: {task: points}} from a class's gradebook.csv (the graded tasks); with maxima, its
+    first row instead, the maxima ({column: points})."""
     import csv
     with open(results / "gradebook.csv") as file:
-        return {row["student"]: {task: int(row[task]) for task in GRADED} for row in csv.DictReader(file)}
+        rows = list(csv.DictReader(file))
+    if maxima:
+        return {column: int(value) for column, value in rows[0].items() if column != "student" and value}
+    assert rows[0]["student"] == grade_class.MAXIMA_ROW, rows[0]
+    return {row["student"]: {task: int(row[task]) for task in GRADED} for row in rows[1:]}
 
 
 def run_class(class_folder, results, *options, wait=True):
@@ -218,6 +223,12 @@ class OnACluster(unittest.TestCase):
         points = gradebook(results)
         self.assertEqual(sorted(points), sorted(students))
         self.assertEqual(points["reference"], {task: max(row[task] for row in points.values()) for task in GRADED})
+        # The gradebook's first row: each graded task's maximum (the reference's points), and the
+        # totals of those (the others were not graded here).
+        maxima = gradebook(results, maxima=True)
+        required = [task for task in GRADED if task not in grade_class.OPTIONAL]
+        self.assertEqual(maxima, {**points["reference"], "total": sum(points["reference"][t] for t in required),
+                                  "optional": sum(points["reference"][t] for t in GRADED if t in grade_class.OPTIONAL)})
         self.assertEqual(set(points["stubs"].values()), {0})
         for task in MUTATED:  # every mutant costs points in its own task only
             for student, row in points.items():
