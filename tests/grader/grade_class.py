@@ -58,6 +58,7 @@ import json
 import os
 import re
 import shutil
+import signal
 import socket
 import stat
 import subprocess
@@ -393,8 +394,14 @@ def start_client(arguments, pending):
                        "repository")
     import logging
     workers = max(1, min(arguments.workers, pending))
-    return Client(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
-                  silence_logs=logging.ERROR)
+    # Ctrl-C at the terminal reaches the local workers too (one process group): they start with
+    # it ignored (Python keeps an ignored SIGINT so), and this process alone stops the grading.
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        return Client(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
+                      silence_logs=logging.ERROR)
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def grade_class(arguments):
@@ -438,17 +445,26 @@ def grade_class(arguments):
     print(f"grade: {len(students)} students ({layout} layout) in {arguments.class_folder}; "
           f"{len(students) - stale_students} up to date, {stale_students} to grade "
           f"({len(claimed)} different task files)", flush=True)
-    failures = []
+    failures, interrupted = [], False
     try:
         if pending:
             failures = run_pending(arguments, results, pending)
-    finally:  # also when interrupted: what was graded is copied to whoever handed in the same
-        known.update({(task, saved["key"]): (saved["record"], student.folder) for student, own, _ in pending
-                      for task in own if (saved := results.saved(student, task))})
-        failures += fill_copies(results, copies, known, {student.folder for student, _, _ in pending}, failures)
+    except Interrupted as stop:
+        failures, interrupted = stop.failures, True
+    # Also when interrupted: what was graded is copied to whoever handed in the same, and the
+    # reports show everyone finished so far.
+    known.update({(task, saved["key"]): (saved["record"], student.folder) for student, own, _ in pending
+                  for task in own if (saved := results.saved(student, task))})
+    failures += fill_copies(results, copies, known, {student.folder for student, _, _ in pending}, failures)
     graded = results.class_records(students)
-    write_reports(results_folder, students, graded)
+    complete = sum(all(task in graded.get(student.name, {}) for task in tasks) for student in students)
+    write_reports(results_folder, students, graded, partial=(complete, len(students)) if interrupted else None)
     shutil.rmtree(work, ignore_errors=True)
+    if interrupted:
+        print(f"\ngrade: interrupted with {complete} of {len(students)} students graded in every task; what was "
+              f"graded is kept, in a partial gradebook and report in {results_folder}: run the same command again "
+              "to grade the rest", flush=True)
+        return 130
     print(f"grade: {time.monotonic() - started:.0f} s; gradebook {results_folder / 'gradebook.csv'}, "
           f"tests {results_folder / 'tests.csv'}, report {results_folder / 'report.html'}", flush=True)
     if failures:
@@ -516,12 +532,18 @@ def run_pending(arguments, results, pending):
             future.release()
     except KeyboardInterrupt:
         client.cancel(list(futures))
-        print("\ngrade: interrupted; every student graded so far is kept: run the same command again to grade "
-              "the rest", flush=True)
-        raise SystemExit(130)
+        raise Interrupted(failures)
     finally:
         client.close()
     return failures
+
+
+class Interrupted(Exception):
+    """Ctrl-C during the grading; holds the names of the students whose grading failed before."""
+
+    def __init__(self, failures):
+        super().__init__("interrupted")
+        self.failures = failures
 
 
 # --- Reports ----------------------------------------------------------------------------------
@@ -533,7 +555,9 @@ def lead_line(feedback):
     return reports.cap(hint or (lines[0] if lines else "(no message)"), 300)
 
 
-def write_reports(folder, students, graded):
+def write_reports(folder, students, graded, partial=None):
+    """gradebook.csv, tests.csv and report.html; partial: (students graded in every task, class
+    size) when the grading was interrupted."""
     counted = [task for task in TASKS if task not in OPTIONAL]
     # The maxima, as the gradebook's first row, where spreadsheets and learning platforms
     # (Canvas's "Points Possible") look for them: a task's from any record of it.
@@ -587,7 +611,8 @@ def write_reports(folder, students, graded):
             writer.writerow([task, name, entry["points"], entry["visibility"], entry["failed"], entry["not_written"],
                              len(graded), most_common(entry), picture_of(entry)])
     os.replace(folder / "tests.csv.partial", folder / "tests.csv")
-    reports.write_atomically(folder / "report.html", report_html(rows, tests, maxima, counted, len(graded)))
+    reports.write_atomically(folder / "report.html", report_html(rows, tests, maxima, counted, len(graded),
+                                                                 partial))
 
 
 def most_common(entry):
@@ -610,8 +635,9 @@ def svg_figure(figure):
     return text[text.index("<svg"):]
 
 
-def report_html(rows, tests, maxima, counted, students):
-    """One self-contained page (figures inline as SVG): what the class got, what it got wrong."""
+def report_html(rows, tests, maxima, counted, students, partial=None):
+    """One self-contained page (figures inline as SVG): what the class got, what it got wrong;
+    partial as write_reports's (the page says so)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -668,6 +694,7 @@ def report_html(rows, tests, maxima, counted, students):
 text-align: left; vertical-align: top; border-bottom: 1px solid #ddd; }} svg {{ max-width: 100%; height: auto; }}</style>
 </head><body>
 <h1>The class's results</h1>
+{f'<p><strong>Partial: the grading was interrupted with {partial[0]} of {partial[1]} students graded in every task; run the same command again to grade the rest.</strong></p>' if partial else ''}
 <p>{len(rows)} students graded; mean total {mean:.1f} of {total_max} points in the required tasks.
 Per student: <code>gradebook.csv</code>; per test: <code>tests.csv</code>.</p>
 {''.join(f'<figure>{svg}</figure>' for svg in figures)}

@@ -138,7 +138,9 @@ def run_class(class_folder, results, *options, wait=True):
     command = ["/usr/bin/python3", str(GRADER / "grade.py"), "--class", str(class_folder), "--results", str(results),
                *[word for task in GRADED for word in ("--task", task)], *options]
     if not wait:
-        return subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        # A process group of its own, as a command typed at a terminal has.
+        return subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                start_new_session=True)
     return run(command, timeout=1800)
 
 
@@ -202,10 +204,20 @@ class OnACluster(unittest.TestCase):
         deadline = time.monotonic() + 900
         while time.monotonic() < deadline and process.poll() is None and len(graded_files()) < 6:
             time.sleep(0.2)
-        process.send_signal(signal.SIGINT)
+        os.killpg(process.pid, signal.SIGINT)  # Ctrl-C at a terminal: the whole process group
         output = process.communicate(timeout=300)[0]
         self.assertEqual(process.returncode, 130, output)
         self.assertIn("run the same command again to grade the rest", output)
+        self.assertNotIn("Traceback", output, "Ctrl-C stops the grading in one line")
+        # The gradebook and the report of those finished, marked partial.
+        import csv
+        with open(results / "gradebook.csv") as file:
+            rows = list(csv.DictReader(file))[1:]
+        finished = [row["student"] for row in rows if all(row[task] for task in GRADED)]
+        self.assertTrue(rows and set(finished) < set(students), rows)
+        self.assertIn(f"interrupted with {len(finished)} of {len(students)} students graded in every task", output)
+        self.assertIn(f"Partial: the grading was interrupted with {len(finished)} of {len(students)} students graded "
+                      "in every task", (results / "report.html").read_text())
         distinct = int(re.search(r"\((\d+) different task files\)", output)[1])
         kept = graded_files()
         self.assertGreaterEqual(len(kept), 6, output)
