@@ -38,9 +38,10 @@ only those tasks are graded (the others keep what earlier runs gave, or stay emp
 
 Written to --results (default build/grade/class/): students/<student>/ with the platforms'
 results.json and junit.xml, report.html and the pictures of the failing cases (what the student
-may see: hidden tests without name or message) and the grader's log; gradebook.csv (first a row "Points Possible" with each column's maximum, then one
-row per student: a column per task of course.txt in course order, `total` of the required tasks,
-`optional`); tests.csv (one row per graded test:
+may see: hidden tests without name or message) and the grader's log; gradebook.csv (first a row
+"Points Possible" with each column's maximum, then one row per student: a column per task of
+course.txt in course order, `total` of the required tasks, `optional`); tests.csv (one row per
+graded test:
 how many students failed it, the most common first failure message and one student's picture of
 it); report.html (one page
 for the instructor, with figures: the totals, each task's points, the tests the class fails
@@ -562,21 +563,18 @@ def write_reports(folder, students, graded, partial=None):
     # The maxima, as the gradebook's first row, where spreadsheets and learning platforms
     # (Canvas's "Points Possible") look for them: a task's from any record of it.
     maxima = {task: record["maximum"] for records in graded.values() for task, record in records.items()}
-    rows = []
-    for student in students:
-        records = graded.get(student.name)
-        if records is None:
-            continue
-        points = {task: sum(t["points"] for t in records[task]["tests"] if t["passed"]) for task in records}
-        rows.append({"student": student.name, **{task: points.get(task, "") for task in TASKS},
-                     "total": sum(points.get(t, 0) for t in counted),
-                     "optional": sum(points.get(t, 0) for t in TASKS if t in OPTIONAL)})
+
+    def row(name, points):
+        return {"student": name, **{task: points.get(task, "") for task in TASKS},
+                "total": sum(points.get(t, 0) for t in counted),
+                "optional": sum(points.get(t, 0) for t in TASKS if t in OPTIONAL)}
+    rows = [row(student.name, {task: sum(t["points"] for t in record["tests"] if t["passed"])
+                               for task, record in graded[student.name].items()})
+            for student in students if student.name in graded]
     with open(folder / "gradebook.csv.partial", "w", newline="") as out:
         writer = csv.DictWriter(out, ["student", *TASKS, "total", "optional"])
         writer.writeheader()
-        writer.writerow({"student": MAXIMA_ROW, **{task: maxima.get(task, "") for task in TASKS},
-                         "total": sum(maxima.get(t, 0) for t in counted),
-                         "optional": sum(maxima.get(t, 0) for t in TASKS if t in OPTIONAL)})
+        writer.writerow(row(MAXIMA_ROW, maxima))
         writer.writerows(rows)
     os.replace(folder / "gradebook.csv.partial", folder / "gradebook.csv")
 
