@@ -304,7 +304,7 @@ GRADED_TEST(Gravity, ThrowWorksForGravityInAnyDirection, 2, after_due_date) {
   }
 }
 
-GRADED_TEST(Gravity, DroppedCircleBouncesBackEveryTwiceTheFallTime, 2, after_due_date) {
+GRADED_TEST(Gravity, DroppedCircleBouncesBackEveryTwiceTheFallTime, 2, visible) {
   // After the first bounce at t = sqrt(18) the circle flies straight up, stops at the centre
   // and falls back: it hits the wall again every 2 sqrt(18), always at (0, -9), leaving with
   // (0, sqrt(18)). Rounding of 1e-15 per bounce; 1e-9 allows for ten of them.
@@ -355,7 +355,7 @@ GRADED_TEST(Gravity, CircleThatJustBouncedDoesNotHitTheWallAgain, 3, after_due_d
   }
 }
 
-GRADED_TEST(Gravity, CircleOnTheWallMovingOutwardBouncesAtOnce, 2, after_due_date) {
+GRADED_TEST(Gravity, CircleOnTheWallMovingOutwardBouncesAtOnce, 2, visible) {
   // At the top of the table, (0, 9), moving (0.5, 1): outward. It must bounce now (t = 0) with
   // v' = (0.5, -1). Were it let go, it would fly out and come back only later.
   Table t = make_table(10, 1, 1, 0, -1);
@@ -385,7 +385,7 @@ GRADED_TEST(Gravity, CircleOnTheWallMovingOutwardBouncesAtOnce, 2, after_due_dat
 // 18 eps + eps^2, a quadratic in u = s^2 whose small root is u = 2c / (B + sqrt(B^2 - c)) with
 // B = 8 + eps and c = 18 eps + eps^2: the first hit is at t = 3 - sqrt(u). Missed, the circle
 // would fly on and hit the wall only near t = 8.66.
-GRADED_TEST(Gravity, GrazingArcHitsAtTheFirstOfTwoCloseRoots, 3, after_due_date) {
+GRADED_TEST(Gravity, GrazingArcHitsAtTheFirstOfTwoCloseRoots, 3, visible) {
   for (const double angle : {0.0, 0.7, -2.0}) {
     const double c = std::cos(angle), s = std::sin(angle);
     auto turn = [&](double x, double y) { return Vector(c * x - s * y, s * x + c * y); };
@@ -534,7 +534,7 @@ GRADED_TEST(Gravity, WallTimesMatchTheQuarticOnRandomArcs, 3, after_due_date) {
 // ---------------------------------------------------------------------------------------------
 // 4. g = 0 is task 4.
 
-GRADED_TEST(Gravity, ZeroGravityBehavesLikePropagate, 2, after_due_date) {
+GRADED_TEST(Gravity, ZeroGravityBehavesLikePropagate, 2, visible) {
   // Two cases of the propagate suite: from the centre with (1, 0) on R = 10, a = 1, the wall
   // at time 9, v' = (-1, 0); from (0, 3) with (1, 0) on R = 6, a = 1, the wall at (4, 3) at
   // time 4, v' = (-7/25, -24/25).

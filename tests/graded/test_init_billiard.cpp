@@ -113,7 +113,7 @@ GRADED_TEST(InitBilliard, ZeroCirclesGiveNoRows, 2, after_due_date) {
 
 // --- Placement -------------------------------------------------------------------------------
 
-GRADED_TEST(InitBilliard, EveryCircleLiesFullyInsideTheTable, 3, after_due_date) {
+GRADED_TEST(InitBilliard, EveryCircleLiesFullyInsideTheTable, 3, visible) {
   for (const Table& t : kTables) {
     for (const std::uint64_t seed : kSeeds) {
       const Coordinates c = place(t, seed);
@@ -143,7 +143,7 @@ GRADED_TEST(InitBilliard, OneLargeCircleFitsInsideTheTable, 2, after_due_date) {
 // Area fraction n a^2 / R^2 = 0.5 (the densest packing of discs is 0.9069): the circles must be
 // placed, inside and without overlap, in reasonable time (a hang is stopped by the test's time
 // limit).
-GRADED_TEST(InitBilliard, DenseTablesAreFilled, 3, after_due_date) {
+GRADED_TEST(InitBilliard, DenseTablesAreFilled, 3, visible) {
   for (const Table& t : {Table{10, 1, 50}, Table{20, 1, 200}}) {
     for (const std::uint64_t seed : {1, 2, 3}) {
       Coordinates c;
@@ -166,7 +166,7 @@ GRADED_TEST(InitBilliard, DenseTablesAreFilled, 3, after_due_date) {
   }
 }
 
-GRADED_TEST(InitBilliard, DenseTablesAreNotARegularArrangement, 2, after_due_date) {
+GRADED_TEST(InitBilliard, DenseTablesAreNotARegularArrangement, 2, visible) {
   // In a random table the distance from each circle to its nearest neighbour varies from circle
   // to circle; on a lattice (with some sites left empty) it takes only a few values. Count the
   // distinct nearest-neighbour distances (to 1e-6): a random table of 50 circles has about 50,
@@ -220,7 +220,7 @@ GRADED_TEST(InitBilliard, SameSeedGivesTheSameTable, 2, after_due_date) {
   }
 }
 
-GRADED_TEST(InitBilliard, DifferentSeedsGiveDifferentTables, 2, after_due_date) {
+GRADED_TEST(InitBilliard, DifferentSeedsGiveDifferentTables, 2, visible) {
   const Table t{10, 1, 10};
   std::vector<Coordinates> tables;
   for (std::uint64_t seed = 1; seed <= 10; ++seed) {
@@ -242,7 +242,7 @@ GRADED_TEST(InitBilliard, DifferentSeedsGiveDifferentTables, 2, after_due_date) 
 
 // The generator is passed by reference so that it advances: two calls in a row with the same
 // generator object must give different tables.
-GRADED_TEST(InitBilliard, RepeatedCallsWithOneGeneratorGiveDifferentTables, 2, after_due_date) {
+GRADED_TEST(InitBilliard, RepeatedCallsWithOneGeneratorGiveDifferentTables, 2, visible) {
   const Table t{10, 1, 10};
   Rng rng(7);
   const Coordinates first = init_billiard(t.R, t.a, t.n, rng);
@@ -364,7 +364,7 @@ GRADED_TEST(InitBilliard, SingleCircleQuadrantsAreEquallyLikely, 2, after_due_da
   }
 }
 
-GRADED_TEST(InitBilliard, SingleCircleFillsEqualAreasEquallyOften, 2, after_due_date) {
+GRADED_TEST(InitBilliard, SingleCircleFillsEqualAreasEquallyOften, 2, visible) {
   // Cut the reachable disc into 8 rings of equal area (r^2 in steps of rho^2 / 8) and 8 equal
   // sectors: 64 cells, each with probability 1/64. With S = 64000 samples each cell expects
   // E = 1000, and chi^2 = sum (count - E)^2 / E follows a chi^2 law with 63 degrees of

@@ -81,7 +81,7 @@ GRADED_TEST(InitVelocities, VelocitiesAreNotAllZero, 2, visible) {
 
 // --- Randomness ------------------------------------------------------------------------------
 
-GRADED_TEST(InitVelocities, SameSeedGivesTheSameVelocities, 2, after_due_date) {
+GRADED_TEST(InitVelocities, SameSeedGivesTheSameVelocities, 2, visible) {
   for (const int n : {1, 10}) {
     for (const std::uint64_t seed : {1, 2, 3, 42}) {
       const Velocities first = draw(n, seed), second = draw(n, seed);
@@ -120,7 +120,7 @@ GRADED_TEST(InitVelocities, DifferentSeedsGiveDifferentVelocities, 2, after_due_
   }
 }
 
-GRADED_TEST(InitVelocities, RepeatedCallsWithOneGeneratorGiveDifferentVelocities, 2, after_due_date) {
+GRADED_TEST(InitVelocities, RepeatedCallsWithOneGeneratorGiveDifferentVelocities, 2, visible) {
   const int n = 10;
   const Coordinates coordinates = scattered_circles(kR, kA, n, 5);
   Rng rng(7);
@@ -133,7 +133,7 @@ GRADED_TEST(InitVelocities, RepeatedCallsWithOneGeneratorGiveDifferentVelocities
       "use the generator `rng` itself (it is passed by reference); do not copy it (Rng copy = rng;) or re-seed it");
 }
 
-GRADED_TEST(InitVelocities, DifferentCirclesGetDifferentVelocities, 2, after_due_date) {
+GRADED_TEST(InitVelocities, DifferentCirclesGetDifferentVelocities, 2, visible) {
   const int n = 20;
   for (std::uint64_t seed = 1; seed <= 5; ++seed) {
     const Velocities v = draw(n, seed);
@@ -181,7 +181,7 @@ std::vector<Velocities> many_draws() {
   return draws;
 }
 
-GRADED_TEST(InitVelocities, MeanVelocityIsZero, 3, after_due_date) {
+GRADED_TEST(InitVelocities, MeanVelocityIsZero, 3, visible) {
   // For velocities with no preferred direction E[v] = 0. The bound for each component is 5
   // standard errors of the mean; for independent, unit-variance components it is about
   // 5 / sqrt(S n) = 0.008 of the rms speed.
@@ -244,7 +244,7 @@ GRADED_TEST(InitVelocities, DirectionsFallInTheFourQuadrantsEquallyOften, 2, aft
   }
 }
 
-GRADED_TEST(InitVelocities, DirectionsAreAsCommonNearTheDiagonalsAsNearTheAxes, 2, after_due_date) {
+GRADED_TEST(InitVelocities, DirectionsAreAsCommonNearTheDiagonalsAsNearTheAxes, 2, visible) {
   // No preferred direction means every angle is as likely: each of 8 sectors of 45 degrees,
   // centred on the axes (0, 90, 180, 270 degrees) and on the diagonals (45, 135, ...), holds
   // 1/8 of the directions. Per seed, the fraction of the 10 circles in a sector has standard

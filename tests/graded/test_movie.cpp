@@ -378,7 +378,7 @@ void expect_positions(const System& s, const Film& film, const std::vector<doubl
 
 // --- State -----------------------------------------------------------------------------------
 
-GRADED_TEST(Movie, LeavesTheStateAfterTheCollisions, 3, after_due_date) {
+GRADED_TEST(Movie, LeavesTheStateAfterTheCollisions, 3, visible) {
   for (const System& s : kSystems) {
     ScratchFolder folder;
     Coordinates c = s.coordinates();
@@ -535,7 +535,7 @@ GRADED_TEST(Movie, AnimationsShareAPositiveDuration, 2, after_due_date) {
 
 // --- What the animation shows ----------------------------------------------------------------
 
-GRADED_TEST(Movie, AnimationShowsTheDiscsAtEveryCollision, 3, after_due_date) {
+GRADED_TEST(Movie, AnimationShowsTheDiscsAtEveryCollision, 3, visible) {
   for (const System& s : kSystems) {
     const auto picture = film(s);
     if (!picture) return;

@@ -149,7 +149,7 @@ GRADED_TEST(Propagate, HeadOnCollisionAtTimeFour, 2, visible) {
   expect_row(t.v, 1, 1, 0, kTol, "circle 1's velocity after the head-on collision", kHintSwap);
 }
 
-GRADED_TEST(Propagate, ObliqueCollisionExchangesOnlyNormalComponents, 3, after_due_date) {
+GRADED_TEST(Propagate, ObliqueCollisionExchangesOnlyNormalComponents, 3, visible) {
   // Circle 0 from (-4, 1) moving (1, 0) hits circle 1 resting at the origin when
   // |(x, 1)| = 2, i.e. at x = -sqrt(3), time 4 - sqrt(3). The line of centres then points
   // along n = (sqrt(3), -1) / 2, and only the velocity part along n is passed on:
@@ -166,7 +166,7 @@ GRADED_TEST(Propagate, ObliqueCollisionExchangesOnlyNormalComponents, 3, after_d
   expect_row(t.v, 1, 0.75, -s3 / 4, kTol, "the hit circle's velocity after an off-centre hit", kHintSwap);
 }
 
-GRADED_TEST(Propagate, ObliqueWallHitReflectsOnlyNormalComponent, 3, after_due_date) {
+GRADED_TEST(Propagate, ObliqueWallHitReflectsOnlyNormalComponent, 3, visible) {
   // R = 6, a = 1: the centre reaches the wall at distance 5. From (0, 3) moving (1, 0) that is
   // the point (4, 3) at time 4. There n = (4, 3) / 5, v.n = 4/5 and
   // v' = (1, 0) - 2 (4/5) (4/5, 3/5) = (-7/25, -24/25).
@@ -254,7 +254,7 @@ GRADED_TEST(Propagate, EarliestOfSeveralCirclePairsIsChosen, 2, after_due_date) 
 // ---------------------------------------------------------------------------------------------
 // 3. Everything moves; nothing collides with itself.
 
-GRADED_TEST(Propagate, EveryCircleMovesDuringTheStep, 2, after_due_date) {
+GRADED_TEST(Propagate, EveryCircleMovesDuringTheStep, 2, visible) {
   // Circles 0 and 1 collide at time 4; circles 2 and 3 are bystanders that keep moving.
   Table t{10, 1, Coordinates(4, 2), Velocities(4, 2)};
   t.c << -5, 0, 5, 0, 0, -6, -3, 5;
@@ -336,7 +336,7 @@ bool checked_step(Table& t, Collision& got, const std::string& where) {
   }
 }
 
-GRADED_TEST(Propagate, ReportsValidIndicesAndNeverACircleWithItself, 2, after_due_date) {
+GRADED_TEST(Propagate, ReportsValidIndicesAndNeverACircleWithItself, 2, visible) {
   for (int k = 0; k < 20; ++k) {
     RandomSystem s = random_system(k, k % 2 == 1);
     const int n = s.table.n();
@@ -361,7 +361,7 @@ GRADED_TEST(Propagate, ReportsValidIndicesAndNeverACircleWithItself, 2, after_du
 // ---------------------------------------------------------------------------------------------
 // 4. The right root, and no collision for circles that separate or slide past each other.
 
-GRADED_TEST(Propagate, CirclesMovingApartDoNotCollide, 2, after_due_date) {
+GRADED_TEST(Propagate, CirclesMovingApartDoNotCollide, 2, visible) {
   // Touch-free circles flying apart only meet the wall, both at time 7.
   Table t{10, 1, Coordinates(2, 2), Velocities(2, 2)};
   t.c << -2, 0, 2, 0;
@@ -475,7 +475,7 @@ GRADED_TEST(Propagate, NoImmediateRepeatOfTheSameCollisionInRandomSystems, 3, af
 // ---------------------------------------------------------------------------------------------
 // Degenerate cases from rounding: a circle pushed onto the wall.
 
-GRADED_TEST(Propagate, CircleKnockedAgainstTheWallBouncesBackAtOnce, 2, after_due_date) {
+GRADED_TEST(Propagate, CircleKnockedAgainstTheWallBouncesBackAtOnce, 2, visible) {
   // Circle 0 rests touching the wall at (9, 0); circle 1 comes from (5, 0) at speed 1.
   // Step 1: they collide at time 2, circle 0 takes the velocity (1, 0) while touching the wall.
   // Step 2: circle 0 reflects at once (time 0). Step 3: it hits circle 1 at once (time 0).
@@ -553,7 +553,7 @@ GRADED_TEST(Propagate, CircleOnTheWallMovingOutwardByRoundingReflects, 2, after_
   }
 }
 
-GRADED_TEST(Propagate, ApproachingPairOverlappingByRoundingCollidesAtOnce, 2, after_due_date) {
+GRADED_TEST(Propagate, ApproachingPairOverlappingByRoundingCollidesAtOnce, 2, visible) {
   // Two circles touching up to rounding (centres a hair closer than 2a, as after a collision
   // computed in floating point) and moving towards each other must collide now, at t = 0: the
   // first-contact root c / (-b + sqrt(b^2 - dv.dv c)) is then a tiny negative number.

@@ -196,7 +196,7 @@ GRADED_TEST(Sectors, PairMeetsAfterCrossings, 3, visible) {
   expect_row(t.v, 1, 1, 0, "circle 1's velocity after being hit head-on", kHintPairTime);
 }
 
-GRADED_TEST(Sectors, CrossingTimesComeFromTheFaceAhead, 2, after_due_date) {
+GRADED_TEST(Sectors, CrossingTimesComeFromTheFaceAhead, 2, visible) {
   // Faces at the integers. Circle 1 drifts slowly right in cell [0, 1) x [0, 1) and leaves it
   // only at time 10; circle 0 moves up from (-0.2, -2.5), crossing y = -2, -1, 0 at times
   // 0.5, 1.5, 2.5. They touch when (0.7 + 0.05 t)^2 + (2.8 - t)^2 = 1, i.e.
@@ -210,14 +210,14 @@ GRADED_TEST(Sectors, CrossingTimesComeFromTheFaceAhead, 2, after_due_date) {
 // ---------------------------------------------------------------------------------------------
 // 2. Crossings: by the circle with the larger index, by both circles, through a corner.
 
-GRADED_TEST(Sectors, CrossingCircleFindsACircleWithASmallerIndex, 2, after_due_date) {
+GRADED_TEST(Sectors, CrossingCircleFindsACircleWithASmallerIndex, 2, visible) {
   // As PairMeetsAfterCrossings, with the rows swapped: now circle 1 crosses and meets circle 0.
   SectorTable t = table(10, 0.5, 1, {0.25, 0.2, 0, 0, -3.25, 0.2, 1, 0});
   expect_event(t, 0, 1, 2.5, "circle 1 from (-3.25, 0.2) moving (1, 0) towards circle 0 at rest at (0.25, 0.2)",
                kHintCrossingIndex);
 }
 
-GRADED_TEST(Sectors, BothCirclesCrossBeforeTheyMeet, 2, after_due_date) {
+GRADED_TEST(Sectors, BothCirclesCrossBeforeTheyMeet, 2, visible) {
   // Circles 10 cells apart close at speed 2; each crosses 4 faces before they touch at time
   // 4.5 (centres at -0.5 and 0.5). They become neighbours only after both have moved.
   // Circle 2 reaches the wall at time 5, before the circles would find each other where they
@@ -236,7 +236,7 @@ GRADED_TEST(Sectors, BothCirclesCrossBeforeTheyMeet, 2, after_due_date) {
   expect_event(u, 0, 1, 8.0 / 3, "circle 0 catching up with circle 1, both crossing cells", kHintCellLists);
 }
 
-GRADED_TEST(Sectors, CrossingThroughACellCorner, 3, after_due_date) {
+GRADED_TEST(Sectors, CrossingThroughACellCorner, 3, visible) {
   // Faces at the integers. Circle 0 moves along the diagonal from (-0.5, -0.5) and passes the
   // corner (0, 0) at time 0.5, crossing x = 0 and y = 0 at once, then the corner (1, 1) at
   // time 1.5; only then is circle 1, at rest at (2.2, 2.2), in a neighbouring cell. They touch
@@ -275,7 +275,7 @@ GRADED_TEST(Sectors, CirclesOnCellFaces, 2, after_due_date) {
                kHintFaces);
 }
 
-GRADED_TEST(Sectors, LaterCollisionIsNotCertainWhileACrossingIsPending, 3, after_due_date) {
+GRADED_TEST(Sectors, LaterCollisionIsNotCertainWhileACrossingIsPending, 3, visible) {
   // R = 50, faces at the integers. Circle 0, slow, crosses x = 0 at time 0.5 and finds circle
   // 1 (at rest at (1.5, 10.5)): contact after time 5.5. But circle 2 crosses x = -20 at time
   // 0.8 and then finds circle 3 (at rest at (-17.5, -10)): contact after time 2.3, earlier.
@@ -604,7 +604,7 @@ void expect_fewer_pairs(long long factor) {
                  kHintFewerPairs);
 }
 
-GRADED_TEST(Sectors, TestsAtLeast20TimesFewerPairsThanAllPairs, 2, after_due_date) { expect_fewer_pairs(20); }
+GRADED_TEST(Sectors, TestsAtLeast20TimesFewerPairsThanAllPairs, 2, visible) { expect_fewer_pairs(20); }
 
 GRADED_TEST(Sectors, TestsAtLeast100TimesFewerPairsThanAllPairs, 2, after_due_date) { expect_fewer_pairs(100); }
 

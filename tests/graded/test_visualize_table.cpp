@@ -158,7 +158,7 @@ GRADED_TEST(VisualizeTable, DrawsTheTableAndOneCirclePerDisc, 2, visible) {
 
 // --- Geometry --------------------------------------------------------------------------------
 
-GRADED_TEST(VisualizeTable, TheWholeTableIsInThePicture, 2, after_due_date) {
+GRADED_TEST(VisualizeTable, TheWholeTableIsInThePicture, 2, visible) {
   // A browser shows the rectangle of the viewBox ("min-x min-y width height"); without one it
   // shows user coordinates from (0, 0) on, up to width and height if given. The table circle
   // must lie inside, up to 2% of its diameter (for a stroke drawn on its edge).
@@ -199,7 +199,7 @@ GRADED_TEST(VisualizeTable, TheWholeTableIsInThePicture, 2, after_due_date) {
   }
 }
 
-GRADED_TEST(VisualizeTable, DiscsHaveTheCircleRadiusAtTheTableScale, 2, after_due_date) {
+GRADED_TEST(VisualizeTable, DiscsHaveTheCircleRadiusAtTheTableScale, 2, visible) {
   for (const Table& t : kTables) {
     const auto picture = draw_and_read(t, scattered_circles(t.R, t.a, t.n, t.seed));
     if (!picture) return;
@@ -228,7 +228,7 @@ GRADED_TEST(VisualizeTable, DiscsHaveTheCircleRadiusAtTheTableScale, 2, after_du
   }
 }
 
-GRADED_TEST(VisualizeTable, DiscCentresAreAtTheCoordinates, 3, after_due_date) {
+GRADED_TEST(VisualizeTable, DiscCentresAreAtTheCoordinates, 3, visible) {
   for (const Table& t : kTables) {
     const Coordinates coordinates = scattered_circles(t.R, t.a, t.n, t.seed);
     const auto picture = draw_and_read(t, coordinates);
@@ -296,7 +296,7 @@ GRADED_TEST(VisualizeTable, DiscCentresAreAtTheCoordinates, 3, after_due_date) {
 // --- Files -----------------------------------------------------------------------------------
 
 // Drawing into an existing, longer file must replace it, not append to it or leave its end.
-GRADED_TEST(VisualizeTable, OverwritesAnExistingFile, 2, after_due_date) {
+GRADED_TEST(VisualizeTable, OverwritesAnExistingFile, 2, visible) {
   const Table t{10, 1, 3, 6};
   const Coordinates coordinates = scattered_circles(t.R, t.a, t.n, t.seed);
   ScratchFolder folder;

@@ -315,7 +315,7 @@ GRADED_TEST(Walls, CircleSlidingAlongAWallNeverHitsIt, 2, after_due_date) {
 // ---------------------------------------------------------------------------------------------
 // 2. No re-collision right after a bounce; a circle touching a wall and approaching hits it now.
 
-GRADED_TEST(Walls, NoRecollisionRightAfterAFaceHit, 2, after_due_date) {
+GRADED_TEST(Walls, NoRecollisionRightAfterAFaceHit, 2, visible) {
   // After the hit of CircleFromCentreHitsWallFaceAtTimeThree the circle leaves (0, 3) with
   // (0, -1): the next event is the rim at (0, -9), 12 later.
   WallTable t = one_circle(0, 0, 0, 1, {wall(5, 4, -5, 4)});
@@ -338,7 +338,7 @@ GRADED_TEST(Walls, NoRecollisionRightAfterAnEndPointHit, 2, after_due_date) {
                  kHintApproach);
 }
 
-GRADED_TEST(Walls, CircleKnockedAgainstAWallBouncesBackAtOnce, 2, after_due_date) {
+GRADED_TEST(Walls, CircleKnockedAgainstAWallBouncesBackAtOnce, 2, visible) {
   // Circle 0 rests touching the wall y = 4 at (0, 3); circle 1 comes from (0, -2) at speed 1.
   // Step 1: they collide at time 3 and circle 0 takes (0, 1) while touching the wall.
   // Step 2: circle 0 bounces off the wall at once (time 0). Step 3: it hits circle 1 at once.

@@ -538,7 +538,8 @@ Velocities init_velocities(int, const Coordinates&, Rng&) {{
 
 
 class Mutants(unittest.TestCase):
-    """Every mutant loses points only in its own task, and the first visible test of its task that
+    """Every mutant loses points only in its own task, in at least one test the student sees before
+    the due date (visibility "visible"), and the first visible test of its task that
     fails leads with a hint naming the bug, for every mutant that models a student's mistake (its
     "Lead hint names:" line); at least five such mutants per task. In a task where a state
     evolves, that test draws its failing case: the picture is read back and checked against the
@@ -573,6 +574,11 @@ class Mutants(unittest.TestCase):
                 # Unchanged suites (all but the mutant's own) are remembered, not run again.
                 scores, maxima, report, _, _ = grade(submission, "--brief", "--cache",
                                                      str(BUILD.parent / "grader-cache"), results=results)
+                # Points lost with no reason the student can read before the due date are a puzzle.
+                failing = [test for test in report["tests"] if test["name"].startswith(task + ":")
+                           and test["status"] == "failed"]
+                seen_before_due_date = any(test["visibility"] == "visible" for test in failing)
+                first_failing = next((test["name"] for test in failing if test["visibility"] != "hidden"), "none")
                 lead = lead_hint(mutant)
                 if lead:
                     with_lead[task] += 1
@@ -599,6 +605,9 @@ class Mutants(unittest.TestCase):
             print(line, flush=True)
             if scores[task] >= maxima[task]:
                 problems.append(f"{task}/{mutant.name} keeps full points in {task}")
+            elif not seen_before_due_date:
+                problems.append(f"{task}/{mutant.name} loses points only in tests a student sees after the due date "
+                                f"(or never): make one that catches it visible (the first: {first_failing})")
             for other in TASKS:
                 if other != task and scores[other] != maxima[other]:
                     problems.append(f"{task}/{mutant.name} costs points in {other}")
