@@ -34,6 +34,7 @@ packages=(
   libgtest-dev                   # the graded test suites
   libpugixml-dev                 # the XML under the graded suites' SVG reader
   libseccomp-dev                 # the grader's cells: what submitted code may not do
+  similarity-tester              # the class grader's copies and near-copies (sim_c++, sim_c)
   python3                        # the grader (tests/grader/grade.py), run as /usr/bin/python3
   python3-yaml                   # the instructors' packaging tests read YAML (GitHub workflows)
   make                           # the Autolab package's test runs its Makefile

@@ -116,6 +116,9 @@ def parse_arguments(argv):
     parser.add_argument("--records", type=Path,
                         help="also write every task's full results (hidden tests included) to this JSON file, "
                              "for the class report; not for students")
+    parser.add_argument("--prepare", action="store_true",
+                        help="only build the grader and measure the reference's times in --build, grading nothing "
+                             "(the class grader's first step on each worker)")
     parser.add_argument("--cache", type=Path,
                         help="folder to remember results by test and executable checksum, so that unchanged "
                              "suites are not run again (for grading many variants; not for untrusted setups)")
@@ -165,7 +168,8 @@ def grade(arguments):
     grading.mkdir(parents=True, exist_ok=True)
 
     # Only the task files are taken from the submission, into a folder of the grader's own.
-    staged, problems = stage_submission(arguments.submission, grading)
+    if not arguments.prepare:
+        staged, problems = stage_submission(arguments.submission, grading)
     build = Build(arguments.build, arguments.dependencies, arguments.build_timeout)
     print(f"grade: building the grader's own code and the graded suites in {arguments.build} (a minute or two the "
           "first time, seconds after), with "
@@ -178,6 +182,9 @@ def grade(arguments):
         compiler = TaskFileCompiler(build, cells)
         limits, factor, slower = task_limits(arguments, build, compiler, cells, grading)
         own_build = time.monotonic() - started  # the grader's own work, whatever the submission
+        if arguments.prepare:
+            print(f"grade: the grader is ready in {arguments.build} ({own_build:.0f} s)", flush=True)
+            return []
         clocks = {task: TaskClock(limits[task]) for task in TASKS}
         results = build_suites(build, compiler, staged, problems, tasks, clocks)
         cache = ResultCache(arguments.cache, limits) if arguments.cache else None

@@ -38,22 +38,15 @@ only those tasks are graded (the others keep what earlier runs gave, or stay emp
 
 Written to --results (default build/grade/class/): students/<student>/ with the platforms'
 results.json and junit.xml, report.html and the pictures of the failing cases (what the student
-may see: hidden tests without name or message) and the grader's log; gradebook.csv (first a row
-"Points Possible" with each column's maximum, then one row per student: a column per task of
-course.txt in course order, `total` of the required tasks, `optional`); tests.csv (one row per
-graded test:
-how many students failed it, the most common first failure message and one student's picture of
-it); report.html (one page
-for the instructor, with figures: the totals, each task's points, the tests the class fails
-most, their lead hints and a picture of the most common failure; hidden tests named).
+may see: hidden tests without name or message) and the grader's log; then what class_report.py
+writes for the instructor: gradebook.csv, mistakes.csv, tests.csv, similarity.csv (the copies,
+from similarity.py) and report.html.
 """
 
 import collections
 import contextlib
-import csv
 import fcntl
 import hashlib
-import html
 import io
 import json
 import os
@@ -71,14 +64,16 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import building
+import class_report
 import grade
-import reports
 import package
-from course import NOT_WRITTEN, OPTIONAL, TASK_FILE, TASK_NUMBER, TASKS
+import reports
+import similarity
+from course import TASK_FILE, TASKS
 
 REPO = building.REPO
 DEFAULT_RESULTS = REPO / "build" / "grade" / "class"
-MAXIMA_ROW = "Points Possible"  # the gradebook's row of each column's maximum
+MAXIMA_ROW = class_report.MAXIMA_ROW
 # Seconds one student's grading may take before it counts as failed (and is tried again on the
 # next run): the platforms' bound, plus a worker's first build of the grader.
 STUDENT_CUTOFF = package.AUTOLAB_CUTOFF
@@ -267,7 +262,8 @@ def task_key(student, task, fingerprints):
 def grade_on_worker(repo, files, options, cutoff):
     """Runs on a Dask worker: grades one student's task files ({file name: bytes}) with
     grade.py and the given options, in this worker's build folder, and returns (records,
-    seconds, log, pictures: {file name: bytes} of the failing cases drawn). It uses the standard
+    seconds, log, pictures: {file name: bytes} of the failing cases drawn); with files None, only
+    builds the grader there (grade.py --prepare: records and pictures empty). It uses the standard
     library only, so that a worker needs nothing of this file but the repository."""
     repo = Path(repo)
     try:
@@ -282,13 +278,13 @@ def grade_on_worker(repo, files, options, cutoff):
         submission = here / "submission"
         shutil.rmtree(submission, ignore_errors=True)
         submission.mkdir()
-        for name, text in files.items():
+        for name, text in (files or {}).items():
             (submission / name).write_bytes(text)
         records = here / "records.json"
         records.unlink(missing_ok=True)
         command = ["/usr/bin/python3", str(repo / "tests" / "grader" / "grade.py"), "--submission", str(submission),
                    "--results", str(here / "results"), "--build", str(here / "build"), "--records", str(records),
-                   *options]
+                   *options, *(["--prepare"] if files is None else [])]
         if os.geteuid() == 0:
             command.append("--protect-reference")
         started = time.monotonic()
@@ -301,6 +297,8 @@ def grade_on_worker(repo, files, options, cutoff):
         except subprocess.TimeoutExpired as expired:
             log, status = str(expired.stdout or ""), None
         seconds = time.monotonic() - started
+        if files is None and status == 0:
+            return [], seconds, log, {}
         if status != 0 or not records.is_file():
             why = "did not finish" if status is None else f"exited with status {status}"
             raise RuntimeError(f"grade.py {why} on {socket.gethostname()}:\n{log[-3000:]}")
@@ -443,23 +441,27 @@ def grade_class(arguments):
                 own.append(task)
         if own:
             pending.append((student, own, keys))
+    copy_only = {student.folder for student in students if any(entry[0] is student for entry in copies)} - \
+        {student.folder for student, _, _ in pending}
     print(f"grade: {len(students)} students ({layout} layout) in {arguments.class_folder}; "
           f"{len(students) - stale_students} up to date, {stale_students} to grade "
-          f"({len(claimed)} different task files)", flush=True)
+          f"({len(claimed)} different task files; {len(copy_only)} of those students hand in only files another "
+          "student hands in too, each graded once)", flush=True)
+    progress = ClassProgress(stale_students, results, copies, known, students, pending)
     failures, interrupted = [], False
     try:
+        progress.release()  # whoever hands in only what an earlier run graded
         if pending:
-            failures = run_pending(arguments, results, pending)
+            failures = run_pending(arguments, results, pending, progress)
     except Interrupted as stop:
         failures, interrupted = stop.failures, True
     # Also when interrupted: what was graded is copied to whoever handed in the same, and the
     # reports show everyone finished so far.
-    known.update({(task, saved["key"]): (saved["record"], student.folder) for student, own, _ in pending
-                  for task in own if (saved := results.saved(student, task))})
-    failures += fill_copies(results, copies, known, {student.folder for student, _, _ in pending}, failures)
+    failures += progress.fill_the_rest(failures)
     graded = results.class_records(students)
     complete = sum(all(task in graded.get(student.name, {}) for task in tasks) for student in students)
-    write_reports(results_folder, students, graded, partial=(complete, len(students)) if interrupted else None)
+    class_report.write_reports(results_folder, students, graded, compare_files(students, tasks),
+                               partial=(complete, len(students)) if interrupted else None)
     shutil.rmtree(work, ignore_errors=True)
     if interrupted:
         print(f"\ngrade: interrupted with {complete} of {len(students)} students graded in every task; what was "
@@ -476,27 +478,99 @@ def grade_class(arguments):
     return 0
 
 
-def fill_copies(results, copies, known, graded_folders, failures):
-    """Saves the records of the task files graded for another student; the names of the students
-    whose copy is missing (its grading failed), not yet in failures."""
-    copied, missing = collections.defaultdict(list), []
-    for student, task, keys in copies:
-        if (task, keys[task]) in known:
-            copied[student.folder].append((student, known[(task, keys[task])], keys))
-        elif student.name not in failures and student.name not in missing:
-            missing.append(student.name)
-    for entries in copied.values():
+def compare_files(students, tasks):
+    """{task: [similarity.Pair]}: the copies and near-copies among the students' files."""
+    if not all(shutil.which(tester) for tester in similarity.TESTER.values()):
+        print("grade: copies are not looked for: install Debian's similarity-tester (./build.sh grade does)", flush=True)
+        return {}
+    stubs = {task: (REPO / "tasks" / TASK_FILE[task]).read_bytes() for task in tasks}
+    return similarity.compare_class({student.name: student.files for student in students}, stubs, tasks)
+
+
+class ClassProgress:
+    """Saves what is graded and prints a line per student to grade, "[k/n]" counting each one:
+    a student whose files are graded, with their own grading time, and a student who hands in
+    only files another student hands in too, as soon as those are graded (their records are
+    copied, never graded twice)."""
+
+    def __init__(self, total, results, copies, known, students, pending):
+        self.total, self.done = total, 0
+        self.results, self.known = results, known   # known: {(task, key): (record, holder's folder)}
+        self.names = {student.folder: student.name for student in students}
+        self.copies = collections.defaultdict(list)  # folder -> [(student, task, keys)]
+        for student, task, keys in copies:
+            self.copies[student.folder].append((student, task, keys))
+        self.graded_folders = set()
+        self.pending = {student.folder for student, _, _ in pending}  # graded in tasks of their own
+
+    def line(self, text):
+        self.done += 1
+        print(f"[{self.done}/{self.total}] {text}", flush=True)
+
+    def graded(self, student, keys, records, seconds, log, pictures, built):
+        self.results.save(student, records, keys, log, pictures)
+        self.graded_folders.add(student.folder)
+        for record in records:
+            self.known[(record["task"], keys[record["task"]])] = (record, student.folder)
+        copied = self.fill(student.folder) or []
+        points = sum(test["points"] for record in records + copied for test in record["tests"] if test["passed"])
+        tasks = [record["task"] for record in records] + [record["task"] for record in copied]
+        self.line(f"{student.name}: {points} points in {', '.join(tasks)} ({seconds:.0f} s"
+                  + (f"; this worker first built the grader, {built:.0f} s" if built >= 5 else "") + ")")
+        self.release()
+
+    def failed(self, student, error):
+        own = self.results.folder / "students" / student.folder
+        reports.write_atomically(own / "grade.log", f"{type(error).__name__}: {error}\n")
+        self.line(f"{student.name}: not graded ({type(error).__name__}; see {own / 'grade.log'})")
+
+    def release(self):
+        """Lines for the students who hand in only files graded by now."""
+        for folder in [folder for folder in self.copies if folder not in self.pending | self.graded_folders]:
+            entries = self.copies[folder]
+            holders = sorted({self.names[self.known[(task, keys[task])][1]] for _, task, keys in entries
+                              if (task, keys[task]) in self.known})
+            copied = self.fill(folder)
+            if copied is not None:
+                points = sum(test["points"] for record in copied for test in record["tests"] if test["passed"])
+                self.line(f"{entries[0][0].name}: {points} points in {', '.join(r['task'] for r in copied)}: the same "
+                          f"files as {', '.join(holders)}, graded once (0 s)")
+
+    def fill(self, folder):
+        """Saves a student's copied records if every one is known; the records, or None."""
+        entries = self.copies.get(folder)
+        if not entries or any((task, keys[task]) not in self.known for _, task, keys in entries):
+            return None
         student, keys = entries[0][0], entries[0][2]
-        pictures = {}
-        for _, (record, holder), _ in entries:
-            pictures |= results.pictures_of(holder, record)
-        results.save(student, [json.loads(json.dumps(record)) for _, (record, _), _ in entries], keys,
-                     None if student.folder in graded_folders else "graded like another student's same files", pictures)
-    return missing
+        pictures, records = {}, []
+        for _, task, _ in entries:
+            record, holder = self.known[(task, keys[task])]
+            pictures |= self.results.pictures_of(holder, record)
+            records.append(json.loads(json.dumps(record)))
+        self.results.save(student, records, keys, None if folder in self.graded_folders
+                          else "graded like another student's same files", pictures)
+        del self.copies[folder]
+        self.graded_folders.add(folder)
+        return records
+
+    def fill_the_rest(self, failures):
+        """Saves what can still be copied (after an interruption, or a failed grading); the names of
+        the students with a copy missing, not yet in failures."""
+        missing = []
+        for folder in list(self.copies):
+            entries = self.copies[folder]
+            ready = [(student, task, keys) for student, task, keys in entries if (task, keys[task]) in self.known]
+            if len(ready) < len(entries) and self.names[folder] not in failures:
+                missing.append(self.names[folder])
+            self.copies[folder] = ready
+            if not ready or self.fill(folder) is None:
+                del self.copies[folder]
+        return missing
 
 
-def run_pending(arguments, results, pending):
-    """Grades the pending students on Dask and saves each as it finishes; the names that failed."""
+def run_pending(arguments, results, pending, progress):
+    """Grades the pending students on Dask, each saved as it finishes (progress); the names that
+    failed. First each worker builds the grader, as a step of its own."""
     try:
         from distributed import as_completed
         import cloudpickle
@@ -508,28 +582,21 @@ def run_pending(arguments, results, pending):
     failures = []
     futures = {}
     try:
+        prepare(client, repo)
         for student, stale, keys in pending:
             files = {TASK_FILE[task]: text for task, text in student.files.items()}
             future = client.submit(grade_on_worker, repo, files, grading_options(stale, jobs=1), STUDENT_CUTOFF, pure=False,
                                    key=f"grade-{student.folder}-{time.time_ns()}")
             futures[future] = (student, keys)
-        done = 0
         for future in as_completed(list(futures)):
             student, keys = futures[future]
-            done += 1
             if future.status == "finished":
                 records, seconds, log, pictures = future.result()
-                results.save(student, records, keys, log, pictures)
-                points = sum(test["points"] for record in records for test in record["tests"] if test["passed"])
-                print(f"[{done}/{len(pending)}] {student.name}: {points} points in "
-                      f"{', '.join(record['task'] for record in records)} ({seconds:.0f} s)", flush=True)
+                built = own_build_seconds(log)
+                progress.graded(student, keys, records, seconds - built, log, pictures, built)
             else:
-                error = future.exception()
                 failures.append(student.name)
-                own = results.folder / "students" / student.folder
-                reports.write_atomically(own / "grade.log", f"{type(error).__name__}: {error}\n")
-                print(f"[{done}/{len(pending)}] {student.name}: not graded ({type(error).__name__}; see "
-                      f"{own / 'grade.log'})", flush=True)
+                progress.failed(student, future.exception())
             future.release()
     except KeyboardInterrupt:
         client.cancel(list(futures))
@@ -539,170 +606,37 @@ def run_pending(arguments, results, pending):
     return failures
 
 
+def prepare(client, repo):
+    """Has every worker build the grader (and measure the reference's times) before grading: one
+    progress step with its time, not hidden in the first student's."""
+    started = time.monotonic()
+    workers = list(client.scheduler_info()["workers"])
+    print(f"grade: building the grader on {len(workers)} workers (a few minutes the first time, seconds after)",
+          flush=True)
+    futures = [client.submit(grade_on_worker, repo, None, grading_options([], jobs=1), STUDENT_CUTOFF, pure=False, workers=[address],
+                             allow_other_workers=False, key=f"prepare-{address}-{time.time_ns()}")
+               for address in workers]
+    try:
+        for future in futures:
+            future.result()
+    except Exception as error:  # its student's grading says it again, with its log
+        print(f"grade: a worker could not build the grader ({type(error).__name__}); its first student's log will "
+              "say why", flush=True)
+    print(f"grade: the grader is ready on {len(workers)} workers ({time.monotonic() - started:.0f} s)", flush=True)
+
+
+def own_build_seconds(log):
+    """What grade.py says its run spent on the grader's own build (0 if it does not say)."""
+    found = re.search(r"of which (\d+) s for the grader's own build", log)
+    return float(found[1]) if found else 0.0
+
+
 class Interrupted(Exception):
     """Ctrl-C during the grading; holds the names of the students whose grading failed before."""
 
     def __init__(self, failures):
         super().__init__("interrupted")
         self.failures = failures
-
-
-# --- Reports ----------------------------------------------------------------------------------
-
-def lead_line(feedback):
-    """The line of a failure message that says most: its hint, else its first line."""
-    lines = [line.strip() for line in feedback.splitlines() if line.strip()]
-    hint = next((line for line in lines if line.startswith("Hint:")), None)
-    return reports.cap(hint or (lines[0] if lines else "(no message)"), 300)
-
-
-def write_reports(folder, students, graded, partial=None):
-    """gradebook.csv, tests.csv and report.html; partial: (students graded in every task, class
-    size) when the grading was interrupted."""
-    counted = [task for task in TASKS if task not in OPTIONAL]
-    # The maxima, as the gradebook's first row, where spreadsheets and learning platforms
-    # (Canvas's "Points Possible") look for them: a task's from any record of it.
-    maxima = {task: record["maximum"] for records in graded.values() for task, record in records.items()}
-
-    def row(name, points):
-        return {"student": name, **{task: points.get(task, "") for task in TASKS},
-                "total": sum(points.get(t, 0) for t in counted),
-                "optional": sum(points.get(t, 0) for t in TASKS if t in OPTIONAL)}
-    rows = [row(student.name, {task: sum(t["points"] for t in record["tests"] if t["passed"])
-                               for task, record in graded[student.name].items()})
-            for student in students if student.name in graded]
-    with open(folder / "gradebook.csv.partial", "w", newline="") as out:
-        writer = csv.DictWriter(out, ["student", *TASKS, "total", "optional"])
-        writer.writeheader()
-        writer.writerow(row(MAXIMA_ROW, maxima))
-        writer.writerows(rows)
-    os.replace(folder / "gradebook.csv.partial", folder / "gradebook.csv")
-
-    tests = collections.OrderedDict()  # (task, name) -> {points, visibility, failed, messages, pictures}
-    for student in students:
-        for task, record in graded.get(student.name, {}).items():
-            if record["problem"]:
-                entry = tests.setdefault((task, "(builds)"), {"points": record["maximum"], "visibility": "visible",
-                                                              "failed": 0, "not_written": 0,
-                                                              "messages": collections.Counter(), "pictures": {}})
-                entry["failed"] += 1
-                entry["messages"][lead_line(record["problem"])] += 1
-            for test in record["tests"]:
-                entry = tests.setdefault((task, test["name"]), {"points": test["points"], "visibility": test["visibility"],
-                                                                "failed": 0, "not_written": 0,
-                                                                "messages": collections.Counter(), "pictures": {}})
-                if test["passed"]:
-                    continue
-                entry["failed"] += 1
-                if NOT_WRITTEN.search(test["feedback"]):  # the untouched stub: nothing to re-teach
-                    entry["not_written"] += 1
-                else:
-                    message = lead_line(test["feedback"])
-                    entry["messages"][message] += 1
-                    if test.get("picture"):  # one student's picture of each message, for the report
-                        entry["pictures"].setdefault(message, f"students/{student.folder}/{test['picture']}")
-    with open(folder / "tests.csv.partial", "w", newline="") as out:
-        writer = csv.writer(out)
-        writer.writerow(["task", "test", "points", "visibility", "failed", "not_written", "students",
-                         "most_common_failure", "picture"])
-        for (task, name), entry in tests.items():
-            writer.writerow([task, name, entry["points"], entry["visibility"], entry["failed"], entry["not_written"],
-                             len(graded), most_common(entry), picture_of(entry)])
-    os.replace(folder / "tests.csv.partial", folder / "tests.csv")
-    reports.write_atomically(folder / "report.html", report_html(rows, tests, maxima, counted, len(graded),
-                                                                 partial))
-
-
-def most_common(entry):
-    """A test's most common failure message (its lead line), or ""."""
-    common = entry["messages"].most_common(1)
-    return common[0][0] if common else ""
-
-
-def picture_of(entry):
-    """One student's picture of a test's most common failure (relative to the results), or ""."""
-    return entry["pictures"].get(most_common(entry), "")
-
-
-def svg_figure(figure):
-    import matplotlib.pyplot as plt
-    out = io.StringIO()
-    figure.savefig(out, format="svg", bbox_inches="tight")
-    plt.close(figure)
-    text = out.getvalue()
-    return text[text.index("<svg"):]
-
-
-def report_html(rows, tests, maxima, counted, students, partial=None):
-    """One self-contained page (figures inline as SVG): what the class got, what it got wrong;
-    partial as write_reports's (the page says so)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    figures = []
-    total_max = sum(maxima.get(task, 0) for task in counted)
-    if rows:
-        figure, axes = plt.subplots(figsize=(7, 3))
-        axes.hist([row["total"] for row in rows], bins=min(20, max(5, len(rows) // 2)), range=(0, max(total_max, 1)),
-                  color="#2e7d32")
-        axes.set_xlabel(f"total points (required tasks, of {total_max})")
-        axes.set_ylabel("students")
-        axes.yaxis.get_major_locator().set_params(integer=True)
-        axes.set_title("Totals")
-        figures.append(svg_figure(figure))
-        figure, axes = plt.subplots(figsize=(7, 3))
-        shares = [sum(row[task] or 0 for row in rows) / (len(rows) * maxima[task]) if maxima.get(task) else 0
-                  for task in TASKS]
-        axes.bar([f"{TASK_NUMBER[t]} {t}" for t in TASKS], [100 * share for share in shares],
-                 color=["#8d6e63" if t in OPTIONAL else "#2e7d32" for t in TASKS])
-        axes.set_ylim(0, 100)
-        axes.set_ylabel("% of the points, class mean")
-        axes.set_title("Each task (brown: optional)")
-        axes.tick_params(axis="x", labelrotation=45)
-        figures.append(svg_figure(figure))
-    # Ranked by the students who wrote the task and still fail the test (a stub teaches nothing).
-    most = sorted(((entry["failed"] - entry["not_written"], task, name, entry) for (task, name), entry in tests.items()
-                   if entry["failed"] > entry["not_written"]),
-                  key=lambda item: (-item[0], TASK_NUMBER[item[1]], item[2]))[:12]
-    not_written = {task: max((entry["not_written"] for (t, _), entry in tests.items() if t == task), default=0)
-                   for task in TASKS}
-    if most:
-        figure, axes = plt.subplots(figsize=(7, 0.35 * len(most) + 1))
-        labels = [f"{task}: {name}" for _, task, name, _ in most][::-1]
-        axes.barh(labels, [100 * failed / students for failed, *_ in most][::-1], color="#c62828")
-        axes.set_xlim(0, 100)
-        axes.set_xlabel("% of the students who fail it (having written its task)")
-        axes.set_title("The tests the class fails most")
-        figures.append(svg_figure(figure))
-    def picture_link(entry):
-        picture = picture_of(entry)
-        return f'<a href="{html.escape(picture)}">picture</a>' if picture else ""
-
-    table = "".join(
-        f"<tr><td>{html.escape(task)}</td><td>{html.escape(name)}{' (hidden)' if entry['visibility'] == 'hidden' else ''}"
-        f"</td><td>{failed} of {students}</td><td>{html.escape(entry['messages'].most_common(1)[0][0])}</td>"
-        f"<td>{picture_link(entry)}</td></tr>"
-        for failed, task, name, entry in most)
-    mean = sum(row["total"] for row in rows) / len(rows) if rows else 0
-    unwritten = ", ".join(f"{task} {count}" for task, count in not_written.items() if count)
-    unwritten = f"<p>Students who left a task's stub untouched: {unwritten}.</p>" if unwritten else ""
-    return f"""<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8"><title>billiard: the class's results</title>
-<style>body {{ font-family: sans-serif; max-width: 60em; margin: 2em auto; }} td, th {{ padding: 0.2em 0.6em;
-text-align: left; vertical-align: top; border-bottom: 1px solid #ddd; }} svg {{ max-width: 100%; height: auto; }}</style>
-</head><body>
-<h1>The class's results</h1>
-{f'<p><strong>Partial: the grading was interrupted with {partial[0]} of {partial[1]} students graded in every task; run the same command again to grade the rest.</strong></p>' if partial else ''}
-<p>{len(rows)} students graded; mean total {mean:.1f} of {total_max} points in the required tasks.
-Per student: <code>gradebook.csv</code>; per test: <code>tests.csv</code>.</p>
-{''.join(f'<figure>{svg}</figure>' for svg in figures)}
-<h2>What to teach again</h2>
-{unwritten}
-<p>The tests most students fail in a task they wrote, with the lead hint (or first line) of their most common
-failure message and, where the test draws its failing case, one student's picture of that failure.</p>
-<table><tr><th>task</th><th>test</th><th>failed by</th><th>most common message</th><th></th></tr>{table}</table>
-</body></html>
-"""
 
 
 def main(arguments):

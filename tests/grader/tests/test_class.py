@@ -32,14 +32,15 @@ sys.path.insert(0, str(GRADER))
 import browser  # noqa: E402
 import grade_class  # noqa: E402
 import package  # noqa: E402
-from course import TASK_FILE  # noqa: E402
+from course import OPTIONAL, TASK_FILE  # noqa: E402
 from test_grader import mutant_source  # noqa: E402
 
 WORK = None  # set from the command line
 MUTATED = ["init_velocities", "visualize_table", "kinetic_energy"]  # some mutants of each are students
-MUTANTS_PER_TASK = 2  # every mutant alone is grader.Mutants' job; the class needs a few per task
-DRAWN = "propagate"  # one mutant of it, so that the class report links a failing case's picture
+MUTANTS_PER_TASK = 3  # every mutant alone is grader.Mutants' job; the class needs a few per task
+DRAWN = "propagate"  # two mutants of it, so that the class report links a failing case's picture
 DRAWN_MUTANT = "whole_velocity_swap"
+DRAWN_MUTANT_TOO = "full_reversal_at_wall"
 GRADED = MUTATED + [DRAWN]
 LAYOUTS = grade_class.LAYOUTS
 
@@ -66,10 +67,32 @@ def the_class(mutants_per_task=MUTANTS_PER_TASK):
     drawn = mutant_source(REPO / "tests" / "mutants" / DRAWN / f"{DRAWN_MUTANT}.mutant").encode()
     students[f"{DRAWN}-{DRAWN_MUTANT}"] = files(**{**reference, DRAWN: drawn})
     students[f"{DRAWN}-{DRAWN_MUTANT}-too"] = files(**{**reference, DRAWN: drawn})  # graded once, copied
+    other = REPO / "tests" / "mutants" / DRAWN / f"{DRAWN_MUTANT_TOO}.mutant"
+    students[f"{DRAWN}-{DRAWN_MUTANT_TOO}"] = files(**{**reference, DRAWN: mutant_source(other).encode()})
     mutant = sorted((REPO / "tests" / "mutants" / "kinetic_energy").glob("*.mutant"))[0]
     students["mixed"] = files(init_velocities=reference["init_velocities"], visualize_table=stubs["visualize_table"],
                               kinetic_energy=mutant_source(mutant).encode(), propagate=reference[DRAWN])
+    # For the report's mistakes and the copies: the same files as another student's, a file that
+    # does not compile, another correct propagate written apart (honest), and the reference's
+    # propagate disguised: comments gone, names changed, functions in another order (a copier).
+    students["reference-again"] = files(**reference)
+    students["stubs-again"] = files(**stubs)
+    students["does-not-compile"] = files(**{**reference, "kinetic_energy": b"double kinetic_energy( {\n"})
+    students["honest"] = files(**{**reference, DRAWN: HERE / "honest" / TASK_FILE[DRAWN]})
+    students["copier"] = files(**{**reference, DRAWN: disguised(reference[DRAWN].read_text()).encode()})
     return students
+
+
+def disguised(source):
+    """A copy of source as a student would hide it: comments stripped, local names changed, its
+    first two functions swapped."""
+    text = re.sub(r"//[^\n]*", "", source)
+    functions = re.findall(r"\ndouble \w+\(.*?\n}\n", text, flags=re.S)
+    if len(functions) >= 2:
+        text = text.replace(functions[0], "\0").replace(functions[1], functions[0]).replace("\0", functions[1])
+    for word in re.findall(r"\bconst double (\w+) =", source) + re.findall(r"^double (\w+)\(", source, flags=re.M):
+        text = re.sub(rf"\b{word}\b", f"my_{word}_value", text)
+    return text
 
 
 def write_layout(layout, students, folder):
@@ -218,7 +241,7 @@ class OnACluster(unittest.TestCase):
         self.assertIn(f"interrupted with {len(finished)} of {len(students)} students graded in every task", output)
         self.assertIn(f"Partial: the grading was interrupted with {len(finished)} of {len(students)} students graded "
                       "in every task", (results / "report.html").read_text())
-        distinct = int(re.search(r"\((\d+) different task files\)", output)[1])
+        distinct = int(re.search(r"\((\d+) different task files", output)[1])
         kept = graded_files()
         self.assertGreaterEqual(len(kept), 6, output)
         self.assertLess(len(kept), distinct, output)
@@ -230,17 +253,18 @@ class OnACluster(unittest.TestCase):
             self.kill_a_worker_once_grading(cluster, records, process, after=len(list(records.glob("*/records/*.json"))))
             output = process.communicate(timeout=1800)[0]
             self.assertEqual(process.returncode, 0, output[-5000:])
-            self.assertEqual(int(re.search(r"\((\d+) different task files\)", output)[1]), distinct - len(kept),
+            self.assertEqual(int(re.search(r"\((\d+) different task files", output)[1]), distinct - len(kept),
                              output[:2000])
+        self.check_progress(output, students)
         points = gradebook(results)
         self.assertEqual(sorted(points), sorted(students))
         self.assertEqual(points["reference"], {task: max(row[task] for row in points.values()) for task in GRADED})
         # The gradebook's first row: each graded task's maximum (the reference's points), and the
         # totals of those (the others were not graded here).
         maxima = gradebook(results, maxima=True)
-        required = [task for task in GRADED if task not in grade_class.OPTIONAL]
+        required = [task for task in GRADED if task not in OPTIONAL]
         self.assertEqual(maxima, {**points["reference"], "total": sum(points["reference"][t] for t in required),
-                                  "optional": sum(points["reference"][t] for t in GRADED if t in grade_class.OPTIONAL)})
+                                  "optional": sum(points["reference"][t] for t in GRADED if t in OPTIONAL)})
         self.assertEqual(set(points["stubs"].values()), {0})
         for task in MUTATED:  # every mutant costs points in its own task only
             for student, row in points.items():
@@ -253,7 +277,7 @@ class OnACluster(unittest.TestCase):
         # A finished class: a run again grades nobody.
         status, output = run_class(folder, results, "--workers", "2")
         self.assertEqual(status, 0, output)
-        self.assertIn(f"{len(students)} up to date, 0 to grade (0 different task files)", output)
+        self.assertIn(f"{len(students)} up to date, 0 to grade (0 different task files", output)
 
         # The instructor's files: every student's results, the tests' table and the report.
         for student in students:
@@ -263,7 +287,11 @@ class OnACluster(unittest.TestCase):
         self.assertIn("most_common_failure", tests_csv.splitlines()[0])
         page = (results / "report.html").read_text()
         self.assertEqual(page.count("<svg"), 3)
-        self.assertIn("What to teach again", page)
+        self.check_mistakes(results, points, students)
+        self.check_copies(results, students)
+        for student in students:  # every student linked to their own report
+            self.assertIn(f'href="students/{student}/report.html"', page)
+            self.assertTrue((results / "students" / student / "report.html").is_file(), student)
         # The students whose propagate fails (one graded, one copied): the pictures of their failing
         # cases, in their results and their own reports; tests.csv links one for each test they
         # fail most commonly, and so does the class report for those among the most-failed tests.
@@ -282,6 +310,73 @@ class OnACluster(unittest.TestCase):
         links = [row["picture"] for row in rows if row["picture"]] + re.findall(r'href="(students/[^"]+\.svg)"', page)
         self.assertTrue(all((results / link).is_file() for link in links), links)
         self.check_drawn(results / "report.html")
+
+    def check_progress(self, output, students):
+        """The run's lines count every student to grade once, copies too, from 1 to the number the
+        first line announced; the grader's build is a step of its own."""
+        to_grade = int(re.search(r"(\d+) to grade", output)[1])
+        lines = re.findall(r"^\[(\d+)/(\d+)\] ([^:]+):", output, flags=re.M)
+        self.assertEqual([int(k) for k, _, _ in lines], list(range(1, to_grade + 1)), output[-5000:])
+        self.assertEqual({int(n) for _, n, _ in lines}, {to_grade})
+        self.assertEqual(len({name for _, _, name in lines}), to_grade, "a student graded twice, or not shown")
+        self.assertTrue(set(name for _, _, name in lines) <= set(students))
+        self.assertRegex(output, r"grade: the grader is ready on \d+ workers \(\d+ s\)")
+        self.assertRegex(output, r"the same files as [^\n]*, graded once", "no student shown as a copy")
+
+    def check_mistakes(self, results, points, students):
+        """mistakes.csv: a row for every task with a failure; each mutant's mistake as a row that
+        names it (its lead hint's words) with its student; the file that does not compile, the
+        endless loop and the untouched stubs as mistakes of their own; shares of the class."""
+        import csv
+        from test_grader import lead_hint
+        with open(results / "mistakes.csv") as file:
+            mistakes = list(csv.DictReader(file))
+        failing = {task for row in points.values() for task in GRADED if row[task] < points["reference"][task]}
+        self.assertEqual({row["task"] for row in mistakes}, failing)
+        self.assertTrue(all(int(row["of"]) == len(students) for row in mistakes), mistakes)
+
+        def row_of(student, task):
+            return next((row for row in mistakes if row["task"] == task and student in row["names"].split("; ")), None)
+        for student in students:
+            task = next((t for t in GRADED if student.startswith(t + "-")), None)
+            if task is None:
+                continue
+            mutant = student[len(task) + 1:].removesuffix("-too")
+            row = row_of(student, task)
+            self.assertIsNotNone(row, f"{student}'s mistake in {task} is in no row")
+            words = lead_hint(REPO / "tests" / "mutants" / task / f"{mutant}.mutant")
+            if words:
+                self.assertIn(words.lower(), row["mistake"].lower(), student)
+        self.assertIn("does not compile", row_of("does-not-compile", "kinetic_energy")["mistake"])
+        self.assertEqual(row_of("hostile", DRAWN)["mistake"], grade_class.class_report.TIMEOUT)
+        for task in GRADED:
+            self.assertEqual(row_of("stubs", task)["mistake"], grade_class.class_report.NOT_WRITTEN_YET)
+            self.assertIn("stubs-again", row_of("stubs", task)["names"].split("; "))
+        ranked = [(row["mistake"] == grade_class.class_report.NOT_WRITTEN_YET, -int(row["students"]),
+                   -int(row["points_lost"])) for row in mistakes]
+        self.assertEqual(ranked, sorted(ranked), "not ranked by students, then points, the stubs last")
+
+    def check_copies(self, results, students):
+        """similarity.csv: the disguised copy of the reference's propagate is flagged beside the
+        reference, the honest propagate beside no one; identical files flagged; the stub never."""
+        import csv
+        with open(results / "similarity.csv") as file:
+            pairs = list(csv.DictReader(file))
+
+        def pair(first, second, task):
+            return next((row for row in pairs if row["task"] == task and {row["first"], row["second"]} == {first, second}),
+                        None)
+        copied = pair("copier", "reference", DRAWN)
+        self.assertIsNotNone(copied, "the disguised copy is not flagged")
+        self.assertEqual(copied["identical"], "no")
+        self.assertGreaterEqual(max(int(copied["first_share"]), int(copied["second_share"])),
+                                grade_class.similarity.SHARE_FLAGGED)
+        self.assertTrue((results / copied["view"]).is_file())
+        self.assertIn("my_time_to_wall_value", (results / copied["view"]).read_text())
+        self.assertEqual([row for row in pairs if row["task"] == DRAWN and "honest" in (row["first"], row["second"])], [])
+        for task in GRADED:
+            self.assertEqual(pair("reference", "reference-again", task)["identical"], "yes", task)
+        self.assertEqual([row for row in pairs if {"stubs", "stubs-again"} & {row["first"], row["second"]}], [])
 
     def kill_a_worker_once_grading(self, cluster, records, process, after=0):
         """Kills (SIGKILL) one of the cluster's worker processes once the run has saved a student

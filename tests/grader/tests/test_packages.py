@@ -411,7 +411,8 @@ class Bounds(unittest.TestCase):
 
 class Guides(unittest.TestCase):
     def test_counts_in_the_guides_follow_the_repository(self):
-        """Figures the guides give that follow from the repository: the mutants per kind of task."""
+        """Figures the guides give that follow from the repository: the mutants per kind of task, the
+        thresholds of the copies."""
         readme = " ".join((REPO / ".github" / "CONTRIBUTING.md").read_text().split())
         mutants = sorted((REPO / "tests" / "mutants").glob("*/*.mutant"))
         kinds = {"six": 0, "stages": 0, "c": 0}
@@ -421,6 +422,11 @@ class Guides(unittest.TestCase):
                   course.TASK_NUMBER[task] <= 6 else "stages"] += 1
         self.assertIn(f"{len(mutants)} buggy solutions it must catch ({kinds['six']} of the six tasks, "
                       f"{kinds['stages']} of the stages, {kinds['c']} of the C track)", readme)
+        # The class grader's thresholds for near-copies, as similarity.py sets them.
+        import similarity
+        guide = " ".join((GRADER / "README.md").read_text().split())
+        self.assertIn(f"least {similarity.SHARE_FLAGGED} % of one file's own code is found in the other, in runs of "
+                      f"{similarity.RUN_TOKENS} tokens or more that add up to {similarity.MATCH_FLAGGED} tokens", guide)
 
     def test_front_page_picture_is_the_commands_movie(self):
         """The README's picture is the movie `billiard 10 1 10` draws with the reference solutions
