@@ -24,8 +24,8 @@ Each student's task files are found the way the platforms' packages find them (p
 find_task_files: at any depth, inside archives, a folder named `tasks` first). Each student is
 graded by tests/grader/grade.py with the platforms' options (the reference code for the other
 tasks, time limits from the reference solutions, the tests as an unprivileged user when run as
-root), so a hostile or endless submission costs that student only. Each Dask worker grades in a
-build folder of its own, built once: by default the workers are local processes (--workers,
+root), so a hostile or endless submission costs that student only. The Dask workers of a machine
+share one build of the grader, made once: by default the workers are local processes (--workers,
 default the cores this process may use); --client grades on a Dask cluster whose workers have a
 copy of this repository at the same path (or --worker-repo).
 
@@ -271,7 +271,10 @@ def grade_on_worker(repo, files, options, cutoff):
         worker = str(get_worker().name)
     except (ImportError, ValueError):
         worker = str(os.getpid())
-    here = repo / "build" / "grade" / "workers" / re.sub(r"[^A-Za-z0-9._-]", "_", f"{socket.gethostname()}-{worker}")
+    # One build of the grader per machine, shared by its workers (grade.py builds it under a lock:
+    # the first builds, the others wait for it); a folder of its own per worker for the rest.
+    machine = repo / "build" / "grade" / "workers" / re.sub(r"[^A-Za-z0-9._-]", "_", socket.gethostname())
+    here = machine.with_name(f"{machine.name}-{re.sub(r'[^A-Za-z0-9._-]', '_', worker)}")
     here.mkdir(parents=True, exist_ok=True)
     with open(here / "lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)  # one grading at a time in a build folder
@@ -283,10 +286,14 @@ def grade_on_worker(repo, files, options, cutoff):
         records = here / "records.json"
         records.unlink(missing_ok=True)
         command = ["/usr/bin/python3", str(repo / "tests" / "grader" / "grade.py"), "--submission", str(submission),
-                   "--results", str(here / "results"), "--build", str(here / "build"), "--records", str(records),
+                   "--results", str(here / "results"), "--build", str(machine / "build"), "--work", str(here),
+                   "--records", str(records),
                    *options, *(["--prepare"] if files is None else [])]
         if os.geteuid() == 0:
             command.append("--protect-reference")
+        processor = own_processor(machine) if files is not None else None  # a build takes every processor
+        if processor:  # a grading with one job keeps its tests on one processor: each worker its own
+            command = ["taskset", "--cpu-list", str(processor[0]), *command]
         started = time.monotonic()
         try:
             # grade.py holds the lock too: if this worker is killed, a grading it started goes on
@@ -297,6 +304,8 @@ def grade_on_worker(repo, files, options, cutoff):
         except subprocess.TimeoutExpired as expired:
             log, status = str(expired.stdout or ""), None
         seconds = time.monotonic() - started
+        if processor:
+            processor[1].close()
         if files is None and status == 0:
             return [], seconds, log, {}
         if status != 0 or not records.is_file():
@@ -305,6 +314,20 @@ def grade_on_worker(repo, files, options, cutoff):
         drawn = here / "results" / "pictures"  # grade.py's PICTURES, replaced by each grading
         pictures = {path.name: path.read_bytes() for path in drawn.glob("*.svg")} if drawn.is_dir() else {}
         return json.loads(records.read_text()), seconds, log, pictures
+
+
+def own_processor(machine):
+    """(a processor no other grading on this machine holds, the open lock that holds it), or None
+    when every one is taken. A grading with one job runs its tests on the first processor it may
+    use; without this, every worker's would be the same one."""
+    for processor in sorted(os.sched_getaffinity(0)):
+        lock = open(machine.with_name(f"{machine.name}.processor-{processor}.lock"), "w")
+        try:
+            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            return processor, lock
+        except OSError:
+            lock.close()
+    return None
 
 
 def grading_options(tasks, jobs=None):
@@ -607,13 +630,14 @@ def run_pending(arguments, results, pending, progress):
 
 
 def prepare(client, repo):
-    """Has every worker build the grader (and measure the reference's times) before grading: one
-    progress step with its time, not hidden in the first student's."""
+    """Has the grader built (and the reference's times measured) for every worker before grading,
+    once per machine (the first worker there builds, the others wait for it): one progress step
+    with its time, not hidden in the first student's."""
     started = time.monotonic()
     workers = list(client.scheduler_info()["workers"])
-    print(f"grade: building the grader on {len(workers)} workers (a few minutes the first time, seconds after)",
-          flush=True)
-    futures = [client.submit(grade_on_worker, repo, None, grading_options([], jobs=1), STUDENT_CUTOFF, pure=False, workers=[address],
+    print(f"grade: building the grader for {len(workers)} workers, once per machine (a few minutes the first time, "
+          "seconds after)", flush=True)
+    futures = [client.submit(grade_on_worker, repo, None, grading_options([]), STUDENT_CUTOFF, pure=False, workers=[address],
                              allow_other_workers=False, key=f"prepare-{address}-{time.time_ns()}")
                for address in workers]
     try:
