@@ -275,6 +275,10 @@ case "$command" in
   -h|--help|help)
     usage
     ;;
+  "")  # no command: what the commands are
+    usage
+    exit 2
+    ;;
   *)
     echo "build.sh: unknown command '${command}'; use './build.sh run' or './build.sh test' (see ./build.sh --help)" >&2
     exit 2

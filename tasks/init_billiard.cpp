@@ -18,7 +18,8 @@
 // and when they run out use another method (for example start from a hexagonal lattice and
 // move the circles at random afterwards). Never loop forever: if the circles cannot fit
 // (no arrangement covers more than pi / sqrt(12) = 0.9069 of the table), throw
-// std::invalid_argument saying so.
+// std::invalid_argument with a message that says they "cannot fit" (the `billiard` command
+// prints it, and its tests look for those words).
 //
 // Bad arguments: start with  checks::table(table_radius, circle_radius, n);  from
 // billiard/argument_checks.hpp. It throws std::invalid_argument for you.

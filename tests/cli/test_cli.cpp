@@ -80,17 +80,29 @@ class Cli : public ::testing::Test {
 
   // Bad input: status 2, exactly one line on stderr naming the problem, nothing on stdout,
   // and no file or folder left behind.
-  void expect_refused(const std::vector<std::string>& arguments, const std::string& must_mention) {
+  // `from_task`: the task whose message the refusal prints ("task 1 (init_billiard)"), so that a
+  // failure says so and the status block of ./build.sh test counts it under that task.
+  void expect_refused(const std::vector<std::string>& arguments, const std::string& must_mention,
+                      const std::string& from_task = "") {
     SCOPED_TRACE("billiard " + cli::shown(arguments));
     const Result result = run(BILLIARD_EXE, arguments);
     // Some refusals need a task (whether circles fit between walls is the student's init_billiard).
     SKIP_WHILE_A_TASK_IS_MISSING(result);
     EXPECT_EQ(cli::refusal_problems(result), "") << result.out << result.err;
-    EXPECT_NE(result.err.find(must_mention), std::string::npos) << result.err;
+    if (from_task.empty()) {
+      EXPECT_NE(result.err.find(must_mention), std::string::npos) << result.err;
+    } else {
+      EXPECT_NE(result.err.find(must_mention), std::string::npos)
+          << "\nExpected: the command refuses, with the message of " << from_task << ", which says \""
+          << must_mention << "\"\nYour code: " << result.err << "Hint: the command prints the message of the "
+          << "std::invalid_argument your task throws: make it say \"" << must_mention << "\", as its task file asks"
+          << "\nThis test checks " << from_task << ".";
+    }
     EXPECT_TRUE(result.files.empty()) << "left behind: " << result.files.front();
   }
-  void expect_refused(const std::string& arguments, const std::string& must_mention) {
-    expect_refused(words(arguments), must_mention);
+  void expect_refused(const std::string& arguments, const std::string& must_mention,
+                      const std::string& from_task = "") {
+    expect_refused(words(arguments), must_mention, from_task);
   }
 
   fs::path folder_;
@@ -169,7 +181,7 @@ TEST_F(Cli, HelpExplainsUsageAndExitsZero) {
 
 TEST_F(Cli, TooManyCirclesForTheTableIsRefused) {
   SKIP_WHILE_A_TASK_IS_MISSING(probe("10 1 1000"));
-  expect_refused("10 1 1000", "cannot fit");
+  expect_refused("10 1 1000", "cannot fit", "task 1 (init_billiard)");
 }
 TEST_F(Cli, NegativeRadiusIsRefused) { expect_refused("-1 1 10", "TABLE_RADIUS"); }
 TEST_F(Cli, WordInsteadOfNumberIsRefused) { expect_refused("ten 1 10", "TABLE_RADIUS"); }
@@ -227,7 +239,7 @@ TEST_F(Cli, NewlineInAnArgumentStaysOnOneLine) {
 TEST_F(Cli, CirclesThatCannotFitLeaveNoOutputFolder) {
   // The output folder is created before task 1 runs; a refusal by task 1 removes it again.
   SKIP_WHILE_A_TASK_IS_MISSING(probe("10 1 1000"));
-  expect_refused("10 1 1000 --output new/pictures", "cannot fit");
+  expect_refused("10 1 1000 --output new/pictures", "cannot fit", "task 1 (init_billiard)");
 }
 
 TEST_F(Cli, OutputThatIsAFileIsRefused) {

@@ -4,9 +4,11 @@
     /usr/bin/python3 tests/grader/progress.py [--counts] JUNIT_XML
 
 reads the JUnit file of a CTest run (ctest --output-junit, as ./build.sh test writes it) and
-prints one short block: each task whose tests ran and how it stands, then what to do next (the
-first task that is not written or not passing, and the command that runs its tests; once the
-tasks that ran pass, the next task). --counts starts the block with how many tests passed,
+prints one short block: each task whose tests ran and how it stands (a failing test of the command
+that names the task it checks counts as that task's), then what to do next (the first task that
+is not written or not passing, and the command that runs its tests; once the tasks that ran pass,
+a task that tests skipped for is not written, or else a run of every test: it names no task whose
+state the run does not show). --counts starts the block with how many tests passed,
 failed and were skipped, for a run whose own output was not shown. The grader
 (grade.py) ends its report with the same "Next:" lines. Exit status 0, or 2 for a missing or
 unreadable file.
@@ -26,6 +28,9 @@ from course import (NOT_WRITTEN, PROGRAM_TASKS, TASK_FILE, TASK_NUMBER, TASKS, i
 # The lines of a graded test's message for students (tests/support/student_messages.hpp), with
 # the picture of its failing case where it draws one.
 STUDENT_MESSAGE = re.compile(r"(Expected|Your code|Hint|Picture): ")
+# The line by which a test outside a task's suite (the command's, say) names the task a failure of
+# it is about, so that the task is not said to pass (tests/cli/test_cli.cpp writes it).
+CHECKS_TASK = re.compile(r"This test checks task (\d+) \((\w+)\)")
 
 
 def run_command(task):
@@ -80,10 +85,11 @@ class TaskProgress:
         return f"{len(self.failing)} of {self.tests} tests fail"
 
 
-def next_step(progress, other_failing=(), waiting=0):
+def next_step(progress, other_failing=(), waiting_for=()):
     """The "Next:" lines: the first task (in course order) that is not done, and how to go on.
     progress: TaskProgress of the tasks that ran; other_failing: names of failing tests that are
-    not a task's; waiting: how many other tests were skipped because a task is not written."""
+    not a task's; waiting_for: the tasks that skipped tests said are not written yet. It names
+    only tasks whose state this run shows."""
     for item in sorted(progress, key=lambda p: TASK_NUMBER[p.task]):
         if item.passes:
             continue
@@ -93,15 +99,13 @@ def next_step(progress, other_failing=(), waiting=0):
                      f"tasks/{TASK_FILE[task]}")
         elif item.missing:
             task = item.missing
-            first = f"Next: write {task_name(task)} in tasks/{TASK_FILE[task]}"
-            if is_optional(task):
-                first += " (optional: extra credit)" if task in PROGRAM_TASKS else \
-                    " (an optional extension stage: extra credit)"
+            first = write_line(task)
         else:
             first = f"Next: {task_name(task)}, starting with its first failing test, {item.failing[0]}:"
             details = [f"  {shortened(line)}" for line in item.first_message] or \
                 [f"  (its message: ./build.sh test -R '{item.failing[0]}')"]
-            return [first, *details, f"  Fix tasks/{TASK_FILE[task]}, then run: {run_command(task)}"]
+            again = run_command(task) if task_of(item.failing[0]) == task else f"./build.sh test -R '{item.failing[0]}'"
+            return [first, *details, f"  Fix tasks/{TASK_FILE[task]}, then run: {again}"]
         return [first, f"  then run: {run_command(task)}"]
     if other_failing:
         return [f"Next: every task that ran passes, but {len(other_failing)} other test(s) fail; start with "
@@ -109,15 +113,19 @@ def next_step(progress, other_failing=(), waiting=0):
                 f"  ./build.sh test -R '{other_failing[0]}'"]
     if len(progress) == len(TASKS):
         return ["Next: nothing; every test passed. Well done."]
-    # Only some tasks ran (./build.sh test -L <task>) and they pass: the next task after them.
-    last_passing = max((TASK_NUMBER[item.task] for item in progress), default=0)
-    later = [task for task in TASKS if TASK_NUMBER[task] > last_passing]
-    if later:
-        task = later[0]
-        optional = " (optional: extra credit)" if is_optional(task) else ""
-        return [f"Next: {task_name(task)} in tasks/{TASK_FILE[task]}{optional}",
-                f"  then run: {run_command(task)}"]
-    return ["Every task that ran passes. Next: ./build.sh test, to see every task pass together"]
+    if waiting_for:  # what ran passes, and some of its tests wait for a task that is not written
+        task = min(waiting_for, key=TASK_NUMBER.get)
+        return [write_line(task), f"  then run: {run_command(task)}"]
+    # Only some tasks ran (./build.sh test -L <task>), or none (-L cli): the others' state is unknown.
+    return [f"Every {'task' if progress else 'test'} that ran passes. Next: ./build.sh test, to see where every "
+            "task stands"]
+
+
+def write_line(task):
+    line = f"Next: write {task_name(task)} in tasks/{TASK_FILE[task]}"
+    if is_optional(task):
+        line += " (optional: extra credit)" if task in PROGRAM_TASKS else " (an optional extension stage: extra credit)"
+    return line
 
 
 def shortened(line, limit=160):
@@ -132,24 +140,27 @@ def task_of(test_name):
 
 
 def from_ctest_junit(path):
-    """(progress per task, names of other failing tests, count of other skipped tests)."""
-    progress, other_failing, waiting = {}, [], 0
+    """(progress per task, names of other failing tests, the tasks other skipped tests wait for).
+    A failing test outside the tasks' suites that names its task (CHECKS_TASK) counts as the
+    task's."""
+    progress, other_failing, waiting_for = {}, [], set()
     for case in ET.parse(path).getroot().iter("testcase"):
         name = case.get("name", "")
         status = case.get("status", "")
         output = "".join(case.findtext(tag) or "" for tag in ("system-out", "system-err"))
         skipped = status in ("notrun", "disabled") and case.find("skipped") is not None
-        task = task_of(name)
+        checked = CHECKS_TASK.search(output) if status != "run" and not skipped else None
+        task = task_of(name) or (checked and task_with_number(int(checked[1])))
         if task:
             progress.setdefault(task, TaskProgress(task)).record(name, status == "run", output)
         elif skipped:
-            waiting += 1
+            waiting_for |= {task_with_number(int(number)) for number in NOT_WRITTEN.findall(output)} - {None}
         elif status != "run":
             other_failing.append(name)
-    return list(progress.values()), other_failing, waiting
+    return list(progress.values()), other_failing, waiting_for
 
 
-def report(progress, other_failing, waiting):
+def report(progress, other_failing, waiting_for):
     """The block ./build.sh test ends with: one line per task that ran, then at most 4 lines."""
     lines = []
     if progress:
@@ -159,7 +170,7 @@ def report(progress, other_failing, waiting):
         for item in sorted(progress, key=lambda p: TASK_NUMBER[p.task]):
             optional = " (optional)" if is_optional(item.task) else ""
             lines.append(f"  {TASK_NUMBER[item.task]:>{number_width}} {item.task:<{width}}  {item.state()}{optional}")
-    return lines + next_step(progress, other_failing, waiting)
+    return lines + next_step(progress, other_failing, waiting_for)
 
 
 def counts(path):

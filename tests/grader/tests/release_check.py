@@ -199,6 +199,8 @@ def check(folder):
     readme = (folder / "README.md").read_text()
     status, help_text = checker.run(["./build.sh", "--help"])
     checker.expect(status == 0, "./build.sh --help", "works", help_text)
+    status, alone = checker.run(["./build.sh"])  # no command: its help, as a mistake
+    checker.expect(status == 2 and alone == help_text, "./build.sh", "prints its help (exit 2)", alone)
     for command in readme_commands(readme):
         checker.command(command, "README.md")
     for command in help_commands(help_text):

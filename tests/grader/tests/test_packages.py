@@ -317,13 +317,25 @@ class StudentLoop(unittest.TestCase):
             self.assertNotIn("lto-wrapper", output)
             self.assertIn("6 kinetic_energy   not written yet", output)
 
-            # Task 1 written: its run passes, and the block names task 2 and its command.
+            # Task 1 written: its run passes, and the block names no task whose state it did not see.
             shutil.copyfile(REPO / "solutions" / TASK_FILE["init_billiard"], folder / "tasks" / TASK_FILE["init_billiard"])
             status, output = run(["./build.sh", "test", "-L", "init_billiard"], cwd=folder, env=env)
             self.assertEqual(status, 0, output[-3000:])
-            self.assertEqual(output.rstrip("\n").splitlines()[-2:],
-                             ["Next: task 2 (init_velocities) in tasks/init_velocities.cpp",
-                              "  then run: ./build.sh test -L init_velocities"])
+            self.assertEqual(output.rstrip("\n").splitlines()[-1],
+                             "Every task that ran passes. Next: ./build.sh test, to see where every task stands")
+
+            # Task 1's refusal without the words its task file asks for ("cannot fit"): its own suite
+            # passes, the command's test of the refusal fails, and the block counts it under task 1.
+            written = (REPO / "solutions" / TASK_FILE["init_billiard"]).read_text()
+            self.assertIn("cannot fit", written)
+            (folder / "tasks" / TASK_FILE["init_billiard"]).write_text(written.replace("cannot fit", "do not go"))
+            status, output = run(["./build.sh", "test", "-L", "init_billiard|cli"], cwd=folder, env=env)
+            self.assertNotEqual(status, 0, output[-3000:])
+            block = output[output.rindex("Where the tasks stand:"):]
+            self.assertRegex(block, r"1 init_billiard +2 of \d+ tests fail", block)  # both refusals of too many circles
+            self.assertIn("starting with its first failing test, cli.Cli.TooManyCirclesForTheTableIsRefused", block)
+            self.assertIn("then run: ./build.sh test -R 'cli.Cli.TooManyCirclesForTheTableIsRefused'", block)
+            shutil.copyfile(REPO / "solutions" / TASK_FILE["init_billiard"], folder / "tasks" / TASK_FILE["init_billiard"])
 
             # Every task written (the reference code): the tests that use the tasks pass, and the
             # block says so. (The first run above already ran the tests that do not use them.)

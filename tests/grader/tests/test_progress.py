@@ -96,21 +96,50 @@ class Report(unittest.TestCase):
         with mock.patch.object(course, "OPTIONAL", []):
             partial = block([("kinetic_energy.S.X", "run", ""), ("kinetic_energy.S.Y", "run", "")])
         self.assertIn("   6 kinetic_energy   passes all 2 tests", partial)
-        self.assertEqual(partial[-2:], ["Next: task 7 (gravity) in tasks/gravity.cpp",
-                                        "  then run: ./build.sh test -L gravity"])
+        self.assertEqual(partial[-1], self.EVERY_TASK_THAT_RAN)
 
-    def test_a_task_that_passes_alone_points_to_the_next_task(self):
+    EVERY_TASK_THAT_RAN = "Every task that ran passes. Next: ./build.sh test, to see where every task stands"
+
+    def test_a_task_that_passes_alone_names_only_a_task_the_run_shows(self):
+        # A skipped test waits for task 2: that one is known not to be written.
         lines = block([("init_billiard.S.X", "run", ""), ("cli.Cli.Run", "skipped", "skipped: " + stub_message("init_velocities"))])
-        self.assertEqual(lines[-2:], ["Next: task 2 (init_velocities) in tasks/init_velocities.cpp",
+        self.assertEqual(lines[-2:], ["Next: write task 2 (init_velocities) in tasks/init_velocities.cpp",
                                       "  then run: ./build.sh test -L init_velocities"])
-        # The last task passing alone: now the whole run, to see every task pass together.
-        last = course.TASKS[-1]
-        lines = block([(f"{last}.S.X", "run", "")])
-        self.assertEqual(lines[-1], "Every task that ran passes. Next: ./build.sh test, to see every task pass together")
-        # An optional next task says so.
+        # Nothing says how the next task stands (it may pass already): no task is named.
+        for task in course.TASKS:
+            lines = block([(f"{task}.S.X", "run", "")])
+            self.assertEqual(lines[-1], self.EVERY_TASK_THAT_RAN, task)
+            self.assertFalse(any(other in lines[-1] for other in course.TASKS))
+        # An optional task waited for says so.
         with mock.patch.object(course, "OPTIONAL", ["gravity"]):
-            lines = block([("kinetic_energy.S.X", "run", "")])
-        self.assertEqual(lines[-2], "Next: task 7 (gravity) in tasks/gravity.cpp (optional: extra credit)")
+            lines = block([("kinetic_energy.S.X", "run", ""), ("cli.Cli.G", "skipped", "skipped: " + stub_message("gravity"))])
+        self.assertEqual(lines[-2], "Next: write task 7 (gravity) in tasks/gravity.cpp (an optional extension stage: "
+                                    "extra credit)")
+
+    def test_a_run_of_no_task_names_no_task(self):
+        for label in ["cli", "engine"]:
+            lines = block([(f"{label}.S.X", "run", ""), (f"{label}.S.Y", "run", "")])
+            self.assertEqual(lines, ["Every test that ran passes. Next: ./build.sh test, to see where every task "
+                                     "stands"], label)
+
+    def test_a_command_test_that_names_its_task_counts_as_that_task(self):
+        """A failing test of the command whose message says which task it checks: the task does not
+        pass, the test is named, and the command to run it again is that test's."""
+        message = ("Expected: the command refuses, with the message of task 1 (init_billiard), which says "
+                   "\"cannot fit\"\nYour code: billiard: too many circles\nHint: make it say \"cannot fit\"\n"
+                   "This test checks task 1 (init_billiard).")
+        lines = block([("init_billiard.S.X", "run", ""), ("init_billiard.S.Y", "run", ""),
+                       ("cli.Cli.TooManyCirclesForTheTableIsRefused", "fail", message),
+                       ("init_velocities.S.X", "run", "")])
+        self.assertIn("   1 init_billiard    1 of 3 tests fail", lines)
+        self.assertEqual(lines[-5], "Next: task 1 (init_billiard), starting with its first failing test, "
+                                    "cli.Cli.TooManyCirclesForTheTableIsRefused:")
+        self.assertEqual(lines[-1], "  Fix tasks/init_billiard.cpp, then run: ./build.sh test -R "
+                                    "'cli.Cli.TooManyCirclesForTheTableIsRefused'")
+        # Without the line, it is another failing test (as before).
+        lines = block([("init_billiard.S.X", "run", ""), ("cli.Cli.T", "fail", "Expected: x")])
+        self.assertIn("   1 init_billiard    passes its test", lines)
+        self.assertIn("cli.Cli.T", lines[-2])
 
     def test_counts_say_how_the_tests_ended(self):
         cases = [("init_billiard.S.X", "run", ""), ("init_billiard.S.Y", "fail", stub_message("init_billiard")),
