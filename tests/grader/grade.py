@@ -45,7 +45,8 @@ import time_limits
 from building import REPO, Build, TaskFileCompiler, build_lock, build_suites, stage_submission
 from judging import ResultCache, place_pictures, run_tests
 from course import TASK_FILE, TASKS
-from reports import gradescope_results, junit_xml, print_table, submission_report, task_records, write_atomically
+from reports import (gradescope_results, googletest_log, junit_xml, print_table, submission_report, task_records,
+                     write_atomically)
 from time_limits import TaskClock, fixed_limits, measured_limits
 
 
@@ -201,6 +202,7 @@ def grade(arguments):
     write_atomically(arguments.results / "results.json",
                      json.dumps(gradescope_results(results, elapsed, arguments.results), indent=2) + "\n")
     write_atomically(arguments.results / "junit.xml", junit_xml(results))
+    write_atomically(arguments.results / "googletest.log", googletest_log(results))
     write_atomically(arguments.results / "report.html",
                      submission_report(results, arguments.results, arguments.submission.resolve().name))
     if arguments.records:
@@ -209,7 +211,8 @@ def grade(arguments):
                                       else "grader")
     print_table(results, verbose=not arguments.brief, own_tasks=audience == "student")
     print(f"\nresults: {arguments.results / 'report.html'} (open it in a browser: each failing test with the picture "
-          f"of its case), {arguments.results / 'results.json'} (Gradescope) and {arguments.results / 'junit.xml'} (JUnit)")
+          f"of its case), {arguments.results / 'results.json'} (Gradescope), {arguments.results / 'junit.xml'} (JUnit) "
+          f"and {arguments.results / 'googletest.log'} (GoogleTest's own lines of each failure)")
     print(f"grade: {elapsed:.0f} s in all, of which {own_build:.0f} s for the grader's own build; "
           + limits_summary(limits, tasks, factor, slower))
     return results

@@ -522,7 +522,8 @@ def run_test(test, programs, servers, processes, cpu_limit, wall_limit, why, clo
     # test's: several busy threads, or a grader too busy to look in time) is not finishing either.
     test.unfinished = (run.stopped and not run.too_much_written) or run.worker_status == -signal.SIGXCPU or (
         run.worker_status == -signal.SIGKILL and run.worker_cpu >= cpu_limit)
-    test.feedback = cap(feedback(test, run, cpu_limit, why, clock), FEEDBACK_CAP)
+    test.feedback, googletest = readable_first(feedback(test, run, cpu_limit, why, clock))
+    test.feedback, test.googletest = cap(test.feedback, FEEDBACK_CAP), cap(googletest, FEEDBACK_CAP)
     test.picture = keep_picture(test, judged, cells.root)
     shutil.rmtree(judged, ignore_errors=True)
     shutil.rmtree(work, ignore_errors=True)
@@ -607,6 +608,33 @@ def run_budgeted(test, programs, servers, processes, clock):
         clock.release(wall_limit, test.seconds, test.unfinished)
 
 
+FAILURE_PLACE = re.compile(r"^\S+:\d+: Failure$")  # how GoogleTest starts each failure it reports
+
+
+def readable_first(text):
+    """(a test's message for the student, GoogleTest's own lines): each failure that has the
+    student's form ("Expected: ...", "Your code: ...", "Hint: ..."; tests/support/student_messages)
+    keeps that part alone, and the assertion's place and values GoogleTest printed before it go to
+    the second text (grade.py's googletest.log). A failure without that form stays whole."""
+    shown, raw = [], []
+    chunk = []
+    for line in text.splitlines() + [None]:
+        if line is not None and not (FAILURE_PLACE.match(line) and chunk):
+            chunk.append(line)
+            continue
+        # (what comes before GoogleTest's first failure, such as why the test ended, stays whole)
+        readable = next((at for at in range(len(chunk) - 2, -1, -1) if chunk[at].startswith("Expected: ")
+                         and chunk[at + 1].startswith("Your code: ")), None) \
+            if chunk and FAILURE_PLACE.match(chunk[0]) else None
+        if readable is None:
+            shown.append("\n".join(chunk).strip())
+        else:
+            shown.append("\n".join(chunk[readable:]).strip())
+            raw.append("\n".join(chunk[:readable]).strip())
+        chunk = [line]
+    return "\n\n".join(part for part in shown if part), "\n\n".join(part for part in raw if part)
+
+
 def gtest_messages(text):
     """GoogleTest's output without its banner lines: the failure messages and anything printed."""
     noise = ("[==========]", "[----------]", "[ RUN      ]", "[       OK ]", "Note: Google Test filter",
@@ -647,6 +675,7 @@ class ResultCache:
             return False
         saved = json.loads(entry.read_text())
         test.passed, test.feedback, test.seconds = saved["passed"], saved["feedback"], saved["seconds"]
+        test.googletest = saved.get("googletest", "")
         test.cpu_seconds = saved["cpu_seconds"]
         test.picture = saved.get("picture", "")
         if test.picture:
@@ -663,7 +692,7 @@ class ResultCache:
         partial = entry.with_name(entry.name + ".partial")
         partial.write_text(json.dumps(
             {"passed": test.passed, "feedback": test.feedback, "seconds": test.seconds, "cpu_seconds": test.cpu_seconds,
-             "picture": test.picture}))
+             "picture": test.picture, "googletest": test.googletest}))
         os.replace(partial, entry)
 
 

@@ -129,8 +129,9 @@ def write_line(task):
 
 
 def shortened(line, limit=160):
-    """A message's line cut to `limit` characters; a picture's path is never cut."""
-    return line if len(line) <= limit or line.startswith("Picture: ") else line[:limit - 3] + "..."
+    """A message's line cut to `limit` characters; a hint and a picture's path are never cut (a
+    hint's end is often the part that says what to do)."""
+    return line if len(line) <= limit or line.startswith(("Hint: ", "Picture: ")) else line[:limit - 3] + "..."
 
 
 def task_of(test_name):

@@ -38,6 +38,7 @@ class TestResult:
     unfinished: bool = False  # stopped at its time limit
     not_run: bool = False     # its task's time budget was used up before it could start
     picture: str = ""         # the picture of its failing case, relative to the results folder
+    googletest: str = ""      # GoogleTest's own lines of its failures (judging.readable_first)
 
     @property
     def score(self):
@@ -279,6 +280,14 @@ def junit_xml(results):
                     xml_text(shown_feedback(test)))
     ET.indent(suites)
     return ET.tostring(suites, encoding="unicode", xml_declaration=True) + "\n"
+
+
+def googletest_log(results):
+    """googletest.log: GoogleTest's own lines (each assertion's place and values) of every failing
+    test that is not hidden, for whoever wants them beside the messages."""
+    parts = [f"== {test.name} ({test.task})\n{test.googletest}\n" for result in results for test in result.tests
+             if test.googletest and not test.passed and test.visibility != "hidden"]
+    return "".join(parts) or "No failing test has lines of GoogleTest's own.\n"
 
 
 def task_records(results):

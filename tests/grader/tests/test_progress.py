@@ -15,6 +15,7 @@ from xml.sax.saxutils import escape
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the grader, whose tests these are
 import course  # noqa: E402  (the course's tasks)
+import judging  # noqa: E402  (a test's message as the grader writes it)
 import progress  # noqa: E402
 
 STUB = ("task {n} ({task}) is not implemented yet: write it in tasks/{task}.cpp, then run its tests with: "
@@ -71,13 +72,15 @@ class Report(unittest.TestCase):
         self.assertEqual(lines[next_at + 1:], ["  Expected: 3 rows", "  Your code: 2 rows", "  Hint: one row per circle",
                                                "  Fix tasks/init_billiard.cpp, then run: ./build.sh test -L init_billiard"])
 
-    def test_the_picture_of_the_failing_case_is_named_whole(self):
+    def test_the_hint_and_the_picture_of_the_failing_case_are_quoted_whole(self):
         picture = "build/tasks/Testing/pictures/" + "Propagate." + "Long" * 40 + ".svg"  # longer than a line
-        message = f"Expected: a wall hit\nYour code: {'x' * 300}\nHint: the positive root\nPicture: {picture}\n"
+        hint = "Hint: take the positive root " + "of the quadratic, " * 20 + "and reflect only the normal part."
+        message = f"Expected: a wall hit\nYour code: {'x' * 300}\n{hint}\nPicture: {picture}\n"
         lines = block([("propagate.P.Fails", "fail", message)])
         next_at = lines.index(next(line for line in lines if line.startswith("Next:")))
+        self.assertEqual(lines[next_at + 3], f"  {hint}")
         self.assertEqual(lines[next_at + 4], f"  Picture: {picture}")
-        self.assertTrue(lines[next_at + 2].endswith("..."))  # a long message line is cut, the path is not
+        self.assertTrue(lines[next_at + 2].endswith("..."))  # a long line of what the code did is cut
 
     def test_a_task_waiting_for_an_earlier_one_points_to_that_one(self):
         lines = block([("movie.M.X", "fail", stub_message("propagate"))])
@@ -232,6 +235,29 @@ class Course(unittest.TestCase):
                 self.read(text)
             self.assertIn(words, str(raised.exception))
 
+
+
+class Messages(unittest.TestCase):
+    def test_the_readable_message_comes_first_and_googletest_lines_go_apart(self):
+        """A failure in the student's form keeps that form alone; GoogleTest's own lines before it
+        (the assertion's place and values) go to the second text; a failure without the form, and
+        what came before any failure, stay whole."""
+        text = ("The code threw an exception: x\n"
+                "tests/graded/test_k.cpp:64: Failure\nThe difference between got and 12.5 is 6.25\n"
+                "got evaluates to 6.25\n\nExpected: <v^2> = 12.5\nYour code: returned 6.25\nHint: the mean itself\n"
+                "tests/graded/test_k.cpp:70: Failure\nExpected: (error) <= (kRel), actual: 4 vs 1e-12\n\n"
+                "Expected: (2, 0)\nYour code: (2.8, 0)\nHint: one factor\nPicture: build/p.svg\n"
+                "tests/graded/test_k.cpp:80: Failure\nValue of: ok\n  Actual: false\n")
+        shown, raw = judging.readable_first(text)
+        self.assertEqual(shown, "The code threw an exception: x\n\nExpected: <v^2> = 12.5\nYour code: returned 6.25\n"
+                                "Hint: the mean itself\n\nExpected: (2, 0)\nYour code: (2.8, 0)\nHint: one factor\n"
+                                "Picture: build/p.svg\n\ntests/graded/test_k.cpp:80: Failure\nValue of: ok\n  Actual: false")
+        self.assertEqual(raw, "tests/graded/test_k.cpp:64: Failure\nThe difference between got and 12.5 is 6.25\n"
+                              "got evaluates to 6.25\n\ntests/graded/test_k.cpp:70: Failure\n"
+                              "Expected: (error) <= (kRel), actual: 4 vs 1e-12")
+        # Why the test ended, before any failure of GoogleTest's, stays with the message after it.
+        ended = "Your code crashed with SIGSEGV.\nExpected: a\nYour code: b"
+        self.assertEqual(judging.readable_first(ended), (ended, ""))
 
 if __name__ == "__main__":
     unittest.main()
