@@ -85,6 +85,20 @@ Account account_of(const Board& board, const Outcome& outcome) {
   Account account;
   account.label = describe_outcome(outcome, circle_count(board), static_cast<int>(board.walls.size()));
   if (!outcome.error.empty() || outcome.none) return account;
+  // A position or velocity that is not a number cannot be drawn where it is: it is marked where
+  // the circle was, and said in words.
+  for (int i = 0; i < circle_count(board); ++i) {
+    std::string what;
+    for (const auto& [rows, name] : {std::pair{&outcome.coordinates, "position"}, std::pair{&outcome.velocities, "velocity"}}) {
+      if (i >= rows->rows() || finite_row(*rows, i)) continue;
+      const bool nan = std::isnan((*rows)(i, 0)) || std::isnan((*rows)(i, 1));
+      what += text(what.empty() ? "" : " and ", name, nan ? " is NaN (not a number)" : " is infinite");
+    }
+    if (!what.empty()) {
+      account.not_finite.push_back({i, what});
+      account.label += text("; circle ", i, "'s ", what);
+    }
+  }
   const Collision& e = outcome.event;
   const auto ghost = [&](int i) {
     if (finite_row(outcome.coordinates, i) && finite_row(outcome.velocities, i)) {
@@ -217,6 +231,18 @@ void draw_account(TableSvg& picture, const Board& board, const Account& account,
       picture.arrow(ghost.at, ghost.at + arrow_scale * ghost.velocity, colour, 0.6 * picture.unit(),
                     text("class=\"", css, " velocity\""));
     }
+  }
+  for (const auto& [i, what] : account.not_finite) {
+    if (!finite_row(board.coordinates, i)) continue;
+    const Vector at = board.coordinates.row(i);
+    const double arm = 1.2 * a;  // a cross over the circle where it was, and the word
+    const std::string style = text("class=\"", css, " not-finite\" data-circle=\"", i, "\" stroke=\"", colour,
+                                   "\" stroke-width=\"", std::max(0.2 * a, 0.6 * picture.unit()), "\"");
+    picture.line(at + Vector(-arm, -arm), at + Vector(arm, arm), style);
+    picture.line(at + Vector(-arm, arm), at + Vector(arm, -arm), style);
+    picture.text(at + Vector(1.4 * arm, 0.4 * arm), what.find("NaN") != std::string::npos ? "NaN" : "inf",
+                 std::clamp(1.4 * a, 2.5 * picture.unit(), 6.0 * picture.unit()),
+                 text("class=\"", css, " not-finite-label\" fill=\"", colour, "\" font-weight=\"bold\""));
   }
   for (const Vector& contact : account.contacts) {
     picture.circle(contact, contact_size,

@@ -27,6 +27,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace billiard::testing {
@@ -93,6 +94,7 @@ struct Account {
   std::vector<Ghost> ghosts;    // the event's circles where they touch, and others it puts elsewhere
   std::vector<Vector> contacts;  // points of contact
   int wall = -1;                // the straight wall it touches (walls[wall]), or -1
+  std::vector<std::pair<int, std::string>> not_finite;  // (circle, "velocity is NaN", ...): marked where it was
 };
 struct FailingCase {
   // "step": a call of a step function; "positions": the discs at one moment against where

@@ -105,6 +105,23 @@ TEST_F(Pictures, ADifferentEventIsDrawnWithBothAccountsAtTheirPlaces) {
   EXPECT_NE(svg.find("circle 0 hits the table's wall after time 9"), std::string::npos);
 }
 
+TEST_F(Pictures, AVelocityThatIsNotANumberIsMarkedAndSaid) {
+  // A wall hit whose new velocity the "student" computed as NaN (a wrong root, say): nothing of
+  // theirs can be drawn where it is, so circle 0 is crossed out where it was, with "NaN" beside it.
+  OneCircle one(0, 0, 1, 0);
+  recorded_step(table_board(10, 1), one.c, one.v, [&] {
+    one.c << 9, 0;
+    one.v << std::nan(""), 0;
+    return Collision{9, 0, kWall};
+  });
+  const std::string message = explain("a velocity of (-1, 0)", "a velocity of (nan, 0)", "a hint");
+  ASSERT_NE(message.find("Picture: " + file().string()), std::string::npos) << message;
+  const std::string svg = text_of(file());
+  EXPECT_NE(svg.find("class=\"yours not-finite\" data-circle=\"0\""), std::string::npos) << svg;
+  EXPECT_NE(svg.find(">NaN<"), std::string::npos);
+  EXPECT_NE(svg.find("circle 0's velocity is NaN (not a number)"), std::string::npos);  // in the legend
+}
+
 TEST_F(Pictures, TheFirstStepThatLeavesTheExpectedRunIsDrawnNotTheLast) {
   // Twenty correct steps of a lone circle, then a wrong one, then more correct ones: the
   // picture shows call 21 (the failure is only found later).
