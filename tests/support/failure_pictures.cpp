@@ -214,7 +214,8 @@ void draw_paths(TableSvg& picture, const Board& board, const Account& account, c
 // after the event, and the points of contact (the student's drawn smaller, on top of the
 // expected ones, so that both show where they coincide).
 void draw_account(TableSvg& picture, const Board& board, const Account& account, const char* colour,
-                  const std::string& dashes, const char* css, double arrow_scale, double contact_size) {
+                  const std::string& dashes, const char* css, double arrow_scale, double contact_size,
+                  double side) {
   const double a = board.circle_radius;
   if (account.wall >= 0) {
     const Wall& wall = board.walls[static_cast<std::size_t>(account.wall)];
@@ -228,8 +229,19 @@ void draw_account(TableSvg& picture, const Board& board, const Account& account,
                         "\" fill-opacity=\"0.12\" stroke=\"", colour, "\" stroke-width=\"",
                         std::max(0.12 * a, 0.4 * picture.unit()), "\" stroke-dasharray=\"", dashes, "\""));
     if (ghost.moved && arrow_scale > 0) {
-      picture.arrow(ghost.at, ghost.at + arrow_scale * ghost.velocity, colour, 0.6 * picture.unit(),
-                    text("class=\"", css, " velocity\""));
+      // The student's arrows a little to the side of the expected ones (they often start at the
+      // same place), each with its speed at its tip, so that both lengths read.
+      const Vector along = ghost.velocity.norm() > 0 ? Vector(ghost.velocity.normalized()) : Vector(1, 0);
+      const Vector from = ghost.at + side * 0.35 * a * Vector(-along.y(), along.x());
+      const Vector tip = from + arrow_scale * ghost.velocity;
+      picture.arrow(from, tip, colour, 0.6 * picture.unit(), text("class=\"", css, " velocity\""));
+      std::ostringstream speed;
+      speed.precision(3);
+      speed << ghost.velocity.norm();
+      picture.text(tip + along * 1.5 * picture.unit() + side * Vector(-along.y(), along.x()) * 1.5 * picture.unit(),
+                   speed.str(), std::clamp(0.9 * a, 2.2 * picture.unit(), 4.0 * picture.unit()),
+                   text("class=\"", css, " speed\" data-circle=\"", ghost.circle, "\" fill=\"", colour,
+                        "\" text-anchor=\"middle\" dominant-baseline=\"central\""));
     }
   }
   for (const auto& [i, what] : account.not_finite) {
@@ -418,6 +430,18 @@ void draw_failing_case(const FailingCase& failing, std::string_view test, std::s
   const double R = board.table_radius, a = board.circle_radius;
   const int n = circle_count(board);
 
+  // Arrows: the fastest velocity in the picture as long as 15% of the table.
+  double fastest = 0;
+  for (int i = 0; i < n; ++i) {
+    if (finite_row(board.velocities, i)) fastest = std::max(fastest, board.velocities.row(i).norm());
+  }
+  for (const Account* account : {&failing.expected, &failing.yours}) {
+    for (const Ghost& ghost : account->ghosts) {
+      if (std::isfinite(ghost.velocity.norm())) fastest = std::max(fastest, ghost.velocity.norm());
+    }
+  }
+  const double arrow_scale = fastest > 0 ? 0.15 * R / fastest : 0;
+
   // The legend's lines, under the table: their number sets the picture's height.
   constexpr std::size_t kWidth = 105;  // characters per line at the legend's size
   const double size = 3.4 * R / 100, line_height = 1.45 * size;
@@ -431,8 +455,15 @@ void draw_failing_case(const FailingCase& failing, std::string_view test, std::s
   if (!failing.expected.label.empty()) add("expected", "Expected: " + failing.expected.label);
   if (!failing.yours.label.empty()) add("yours", "Your code: " + failing.yours.label);
   add("", failing.key.empty() ? "Numbered circles: where they are before the call, arrows their velocities. Dashed: "
-                                 "where each answer puts them, with their velocities after; dots: the points of contact."
+                                 "where each answer puts them, with their velocities after (each speed at its arrow's "
+                                 "tip); dots: the points of contact."
                                : failing.key);
+  if (arrow_scale > 0) {
+    std::ostringstream scale;
+    scale.precision(3);
+    scale << "Arrows: a speed of " << fastest << " is drawn as long as " << 0.15 * R << " (15% of the table's radius).";
+    add("", scale.str());
+  }
   legend.push_back({"", ""});
   legend.push_back({"title", "The test's message"});
   for (const auto& line : wrapped(text("Expected: ", expected), kWidth)) legend.push_back({"", line});
@@ -463,17 +494,6 @@ void draw_failing_case(const FailingCase& failing, std::string_view test, std::s
                  "fill=\"#6a1b9a\"");
   }
 
-  // Arrows: the fastest velocity in the picture as long as 15% of the table.
-  double fastest = 0;
-  for (int i = 0; i < n; ++i) {
-    if (finite_row(board.velocities, i)) fastest = std::max(fastest, board.velocities.row(i).norm());
-  }
-  for (const Account* account : {&failing.expected, &failing.yours}) {
-    for (const Ghost& ghost : account->ghosts) {
-      if (std::isfinite(ghost.velocity.norm())) fastest = std::max(fastest, ghost.velocity.norm());
-    }
-  }
-  const double arrow_scale = fastest > 0 ? 0.15 * R / fastest : 0;
 
   draw_paths(picture, board, failing.expected, failing.expected_outcome, kExpectedColour, "expected");
   draw_paths(picture, board, failing.yours, failing.your_outcome, kYourColour, "yours");
@@ -495,9 +515,9 @@ void draw_failing_case(const FailingCase& failing, std::string_view test, std::s
   }
   const double contact = std::max(0.25 * a, 1.2 * picture.unit());
   draw_account(picture, board, failing.expected, kExpectedColour, text(0.5 * a, " ", 0.25 * a), "expected",
-               arrow_scale, contact);
+               arrow_scale, contact, 1.0);
   draw_account(picture, board, failing.yours, kYourColour, text(0.12 * a, " ", 0.18 * a), "yours", arrow_scale,
-               0.6 * contact);
+               0.6 * contact, -1.0);
 
   // The legend.
   const double left = picture.left() + 2 * picture.unit();

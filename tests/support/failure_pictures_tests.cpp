@@ -122,6 +122,34 @@ TEST_F(Pictures, AVelocityThatIsNotANumberIsMarkedAndSaid) {
   EXPECT_NE(svg.find("circle 0's velocity is NaN (not a number)"), std::string::npos);  // in the legend
 }
 
+TEST_F(Pictures, VelocitiesAfterAnEventReadBySizeAndDirection) {
+  // Circle 0 at speed 3 catches circle 1 at speed 1: after time 2 they touch at x = 3 and 5 and
+  // exchange velocities (1 and 3). A "student" step that keeps them (3 and 1): the same places,
+  // so the arrows start together; each account's arrows carry their speeds, the student's are
+  // drawn to the side, and the legend states the arrows' scale.
+  Coordinates c(2, 2);
+  Velocities v(2, 2);
+  c << -3, 0, 3, 0;
+  v << 3, 0, 1, 0;
+  recorded_step(table_board(10, 1), c, v, [&] {
+    c << 3, 0, 5, 0;
+    return Collision{2, 0, 1};
+  });
+  const std::string message = explain("circle 0 at speed 1", "circle 0 at speed 3", "a hint");
+  ASSERT_NE(message.find("Picture: " + file().string()), std::string::npos) << message;
+  const std::string svg = text_of(file());
+  for (const char* speed : {"class=\"expected speed\" data-circle=\"0\"", "class=\"yours speed\" data-circle=\"0\""}) {
+    EXPECT_NE(svg.find(speed), std::string::npos) << speed;
+  }
+  const auto speed_of = [&](const std::string& css) {
+    const std::size_t at = svg.find(css);
+    return at == std::string::npos ? std::string() : svg.substr(svg.find('>', at) + 1, 1);
+  };
+  EXPECT_EQ(speed_of("class=\"expected speed\" data-circle=\"0\""), "1");
+  EXPECT_EQ(speed_of("class=\"yours speed\" data-circle=\"0\""), "3");
+  EXPECT_NE(svg.find("Arrows: a speed of 3 is drawn as long as 1.5"), std::string::npos);
+}
+
 TEST_F(Pictures, TheFirstStepThatLeavesTheExpectedRunIsDrawnNotTheLast) {
   // Twenty correct steps of a lone circle, then a wrong one, then more correct ones: the
   // picture shows call 21 (the failure is only found later).
