@@ -613,7 +613,7 @@ FAILURE_PLACE = re.compile(r"^\S+:\d+: Failure$")  # how GoogleTest starts each 
 
 def readable_first(text):
     """(a test's message for the student, GoogleTest's own lines): each failure that has the
-    student's form ("Expected: ...", "Your code: ...", "Hint: ..."; tests/support/student_messages)
+    student's form ("Expected: ...", "Your code: ...", "Hint: ..."; tests/support/student_messages.hpp)
     keeps that part alone, and the assertion's place and values GoogleTest printed before it go to
     the second text (grade.py's googletest.log). A failure without that form stays whole."""
     shown, raw = [], []

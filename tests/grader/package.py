@@ -66,6 +66,10 @@ STUDENT_EXCLUDED = [
     "tests/grader/grade_bench.py",    # the grader's benchmark (grades the reference solutions)
     "tests/grader/grade_class.py",    # grading a class (with the reference solutions)
     "tests/grader/grade_class_bench.py",  # ... its benchmark
+    "tests/grader/class_report.py",   # ... the instructor's report of it
+    "tests/grader/similarity.py",     # ... the copies in it
+    "tests/grader/class-report.png",  # ... and the instructors' guide's pictures of them
+    "tests/grader/class-similarity.png",
     ".ci/",                           # the instructors' CI (it expects the reference solutions)
     ".github/workflows/ci.yml",       # ... and the same CI on GitHub
     "lib/README.md",                  # the library's guide (students read tasks/README.md)

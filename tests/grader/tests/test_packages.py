@@ -119,7 +119,7 @@ class StudentRelease(unittest.TestCase):
 
         # Nothing that gives answers away, no instructors' tools; the workflow is there.
         for gone in ["solutions", "tests/mutants", "tests/grader/tests", "tests/graded/hidden", "tests/grader/package.py",
-                     ".ci"]:
+                     ".ci", "tests/grader/grade_class.py", "tests/grader/similarity.py"]:
             self.assertFalse((folder / gone).exists(), f"{gone} must not be in the student release")
         for kept in ["build.sh", "tasks/propagate.cpp", "tests/grader/grade.py", "tests/graded/test_movie.cpp",
                      package.WORKFLOW, ".devcontainer/devcontainer.json"]:
