@@ -24,8 +24,8 @@ Each student's task files are found the way the platforms' packages find them (p
 find_task_files: at any depth, inside archives, a folder named `tasks` first). Each student is
 graded by tests/grader/grade.py with the platforms' options (the reference code for the other
 tasks, time limits from the reference solutions, the tests as an unprivileged user when run as
-root), so a hostile or endless submission costs that student only. The Dask workers of a machine
-share one build of the grader, made once: by default the workers are local processes (--workers,
+root), so a hostile or endless submission costs that student only. Each Dask worker grades in a
+build folder of its own, built once: by default the workers are local processes (--workers,
 default the cores this process may use); --client grades on a Dask cluster whose workers have a
 copy of this repository at the same path (or --worker-repo).
 
@@ -271,8 +271,9 @@ def grade_on_worker(repo, files, options, cutoff):
         worker = str(get_worker().name)
     except (ImportError, ValueError):
         worker = str(os.getpid())
-    # One build of the grader per machine, shared by its workers (grade.py builds it under a lock:
-    # the first builds, the others wait for it); a folder of its own per worker for the rest.
+    # A build of the grader per worker: a grading links its workers with hard links to the build's
+    # precompiled header, which another worker's build must never rewrite under it (one shared
+    # build gave a compiler's bus error there).
     machine = repo / "build" / "grade" / "workers" / re.sub(r"[^A-Za-z0-9._-]", "_", socket.gethostname())
     here = machine.with_name(f"{machine.name}-{re.sub(r'[^A-Za-z0-9._-]', '_', worker)}")
     here.mkdir(parents=True, exist_ok=True)
@@ -286,7 +287,7 @@ def grade_on_worker(repo, files, options, cutoff):
         records = here / "records.json"
         records.unlink(missing_ok=True)
         command = ["/usr/bin/python3", str(repo / "tests" / "grader" / "grade.py"), "--submission", str(submission),
-                   "--results", str(here / "results"), "--build", str(machine / "build"), "--work", str(here),
+                   "--results", str(here / "results"), "--build", str(here / "build"), "--work", str(here),
                    "--records", str(records),
                    *options, *(["--prepare"] if files is None else [])]
         if os.geteuid() == 0:
@@ -630,13 +631,12 @@ def run_pending(arguments, results, pending, progress):
 
 
 def prepare(client, repo):
-    """Has the grader built (and the reference's times measured) for every worker before grading,
-    once per machine (the first worker there builds, the others wait for it): one progress step
-    with its time, not hidden in the first student's."""
+    """Has every worker build the grader (and measure the reference's times) before grading: one
+    progress step with its time, not hidden in the first student's."""
     started = time.monotonic()
     workers = list(client.scheduler_info()["workers"])
-    print(f"grade: building the grader for {len(workers)} workers, once per machine (a few minutes the first time, "
-          "seconds after)", flush=True)
+    print(f"grade: building the grader on {len(workers)} workers (a few minutes the first time, seconds after)",
+          flush=True)
     futures = [client.submit(grade_on_worker, repo, None, grading_options([]), STUDENT_CUTOFF, pure=False, workers=[address],
                              allow_other_workers=False, key=f"prepare-{address}-{time.time_ns()}")
                for address in workers]

@@ -5,8 +5,8 @@ workers against the same students graded one after another, side by side in one 
     /usr/bin/python3 tests/grader/grade_class_bench.py [--workers 2] [--rounds 2] [--all-tasks] [--same-files]
 
 Each round grades the class both ways from nothing: new results folders and no grader built
-(the workers' shared build folder, build/grade/workers/<machine>/build, and the serial run's are
-removed first; the compiler cache stays), alternating which goes first. It prints each way's
+(the workers' build folders, build/grade/workers/<machine>-<worker>/build, and the serial run's
+are removed first; the compiler cache stays), alternating which goes first. It prints each way's
 wall time split into the grader's build and the grading, and their ratio; then the time of a run
 again of the finished class, which grades nobody. By default every student's files differ from
 everyone else's (the class's files, each with a comment of its own), so that no file is graded
@@ -62,7 +62,8 @@ def main():
                     for student, files in students.items()}
     test_class.write_layout("folders", students, work / "class")
     task_options = [word for task in tasks for word in ("--task", task)]
-    shared_build = REPO / "build" / "grade" / "workers" / re.sub(r"[^A-Za-z0-9._-]", "_", socket.gethostname()) / "build"
+    workers = REPO / "build" / "grade" / "workers"
+    host = re.sub(r"[^A-Za-z0-9._-]", "_", socket.gethostname())
 
     def in_class(results):
         """(wall seconds, the grader's build in them)."""
@@ -98,7 +99,8 @@ def main():
         order = ["class", "serial"] if round_number % 2 == 0 else ["serial", "class"]
         seconds = {}
         for way in order:
-            shutil.rmtree(shared_build if way == "class" else work / "serial-build", ignore_errors=True)
+            for folder in workers.glob(f"{host}-*/build") if way == "class" else [work / "serial-build"]:
+                shutil.rmtree(folder, ignore_errors=True)
             seconds[way] = in_class(results) if way == "class" else one_by_one()
         ratios.append(seconds["class"][0] / seconds["serial"][0])
         print(f"round {round_number + 1}: " + ", ".join(
