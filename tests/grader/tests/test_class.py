@@ -266,6 +266,8 @@ class OnACluster(unittest.TestCase):
         self.assertEqual(maxima, {**points["reference"], "total": sum(points["reference"][t] for t in required),
                                   "optional": sum(points["reference"][t] for t in GRADED if t in OPTIONAL)})
         self.assertEqual(set(points["stubs"].values()), {0})
+        for correct in ["reference-again", "honest", "copier"]:  # correct code, whoever wrote it: full points
+            self.assertEqual(points[correct], points["reference"], correct)
         for task in MUTATED:  # every mutant costs points in its own task only
             for student, row in points.items():
                 if student.startswith(f"{task}-"):
