@@ -14,8 +14,6 @@ only as objects: the harness (tests/grader/judge/worker_main.cpp), the task file
 tasks' code, so nothing in it is a library member a submission could replace.
 """
 
-import contextlib
-import fcntl
 import functools
 import hashlib
 import json
@@ -210,7 +208,7 @@ class Remembered:
 
     def remember(self, key, content, extra):
         try:
-            partial = self.folder / f"{key}.bin.{os.getpid()}.partial"  # gradings may share the folder
+            partial = self.folder / f"{key}.bin.partial"
             partial.write_bytes(content)
             os.replace(partial, self.folder / f"{key}.bin")
             write_text(self.folder / f"{key}.json", json.dumps(extra))
@@ -222,24 +220,8 @@ class Remembered:
             pass
 
 
-@contextlib.contextmanager
-def build_lock(folder):
-    """Held while a grading builds, or measures the reference, in a build folder that several
-    gradings may share (the class grader's workers on one machine): one builds, the others wait
-    and then find it built. Where the folder's parent is not the grader's to write (an Autolab
-    job's user, beside the image's build), no one builds there and there is no lock."""
-    try:
-        lock = open(folder.parent / f"{folder.name}.lock", "a")
-    except OSError:
-        yield
-        return
-    with lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
-        yield
-
-
 def write_text(path, text):
-    partial = path.with_name(f"{path.name}.{os.getpid()}.partial")  # gradings may share the folder
+    partial = path.with_name(path.name + ".partial")
     partial.write_text(text)
     os.replace(partial, path)
 

@@ -279,9 +279,6 @@ def report_html(rows, maxima, counted, mistakes, counts, pairs, views, partial=N
         axes.set_title("The class's mistakes, most common first")
         figures.append(svg_figure(figure))
 
-    def student_link(name, folder):
-        return f'<a href="students/{html.escape(folder)}/report.html">{html.escape(name)}</a>'
-
     def seen(value):
         return {"visible": "seen before the due date", "after_due_date": "seen after the due date",
                 "hidden": "hidden: never seen"}.get(value, value)
@@ -339,7 +336,7 @@ copy or near-copy of another's (below).</p>
 <table id="students-table"><thead><tr><th class="sortable">student</th>{''.join(f'<th class="sortable">{TASK_NUMBER[t]} {html.escape(t)}</th>' for t in tasks)}
 <th class="sortable">total</th><th class="sortable">optional</th><th class="sortable">similar in</th></tr>{maxima_row}</thead>
 <tbody>{student_rows}</tbody></table>
-{similarity_section(pairs, views, student_link_by_name(rows))}
+{similarity_section(pairs, views, {student.name: student_link(student.name, student.folder) for student, _ in rows})}
 <script>
 // Sorts the students' table by the column clicked (numbers as numbers; again: the other way).
 document.querySelectorAll("#students-table th.sortable").forEach((header, column) => {{
@@ -361,9 +358,9 @@ document.querySelectorAll("#students-table th.sortable").forEach((header, column
 """
 
 
-def student_link_by_name(rows):
-    return {student.name: f'<a href="students/{html.escape(student.folder)}/report.html">{html.escape(student.name)}</a>'
-            for student, _ in rows}
+def student_link(name, folder):
+    """A student's name, linked to their own report."""
+    return f'<a href="students/{html.escape(folder)}/report.html">{html.escape(name)}</a>'
 
 
 def similarity_section(pairs, views, links):

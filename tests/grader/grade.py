@@ -42,7 +42,7 @@ from pathlib import Path
 
 import cell
 import time_limits
-from building import REPO, Build, TaskFileCompiler, build_lock, build_suites, stage_submission
+from building import REPO, Build, TaskFileCompiler, build_suites, stage_submission
 from judging import ResultCache, place_pictures, run_tests
 from course import TASK_FILE, TASKS
 from reports import (gradescope_results, googletest_log, junit_xml, print_table, submission_report, task_records,
@@ -76,9 +76,6 @@ def parse_arguments(argv):
                         help="with --client, where the workers' copy of this repository is (default: this one's path)")
     parser.add_argument("--build", type=Path, default=REPO / "build" / "grade" / "build",
                         help="build folder (default: build/grade/build)")
-    parser.add_argument("--work", type=Path,
-                        help="folder for this grading's own copies of the submitted files (default: the build "
-                             "folder's parent); gradings that share a build folder each need their own")
     parser.add_argument("--dependencies", choices=["reference", "submission"],
                         help="code for the other tasks of each suite: the reference solutions (default where "
                              "solutions/ exists) or the submission's own files")
@@ -140,9 +137,8 @@ def parse_arguments(argv):
         return arguments
     if arguments.results is None:
         arguments.results = REPO / "build" / "grade" / "results"
-    for folder in ["submission", "results", "build", "work"]:  # the build's own records hold absolute paths
-        if getattr(arguments, folder) is not None:
-            setattr(arguments, folder, getattr(arguments, folder).absolute())
+    for folder in ["submission", "results", "build"]:  # the build's own records hold absolute paths
+        setattr(arguments, folder, getattr(arguments, folder).absolute())
     if not arguments.submission.is_dir():
         fail(f"--submission {arguments.submission} is not a folder; give the folder that holds the task files")
     if arguments.dependencies is None:
@@ -169,7 +165,7 @@ def parse_arguments(argv):
 def grade(arguments):
     started = time.monotonic()
     tasks = arguments.task or TASKS
-    grading = arguments.work or arguments.build.parent
+    grading = arguments.build.parent
     grading.mkdir(parents=True, exist_ok=True)
 
     # Only the task files are taken from the submission, into a folder of the grader's own.
@@ -180,14 +176,12 @@ def grade(arguments):
           "first time, seconds after), with "
           f"{'the reference code for the other tasks' if arguments.dependencies == 'reference' else 'your code for every task'}",
           flush=True)
-    with build_lock(arguments.build):
-        build.configure()
-        build.prebuild()
+    build.configure()
+    build.prebuild()
     with protected(arguments.protect_reference, build), cell.Cells(build.launcher, TASKS) as cells:
         print(f"grade: each grading in its cells: {cells.protections.describe()}", flush=True)
-        with build_lock(arguments.build):
-            compiler = TaskFileCompiler(build, cells)
-            limits, factor, slower = task_limits(arguments, build, compiler, cells, grading)
+        compiler = TaskFileCompiler(build, cells)
+        limits, factor, slower = task_limits(arguments, build, compiler, cells, grading)
         own_build = time.monotonic() - started  # the grader's own work, whatever the submission
         if arguments.prepare:
             print(f"grade: the grader is ready in {arguments.build} ({own_build:.0f} s)", flush=True)

@@ -287,7 +287,7 @@ def grade_on_worker(repo, files, options, cutoff):
         records = here / "records.json"
         records.unlink(missing_ok=True)
         command = ["/usr/bin/python3", str(repo / "tests" / "grader" / "grade.py"), "--submission", str(submission),
-                   "--results", str(here / "results"), "--build", str(here / "build"), "--work", str(here),
+                   "--results", str(here / "results"), "--build", str(here / "build"),
                    "--records", str(records),
                    *options, *(["--prepare"] if files is None else [])]
         if os.geteuid() == 0:
