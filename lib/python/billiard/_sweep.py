@@ -33,8 +33,9 @@ NO_DASK = ("billiard.sweep needs Dask: install Debian's python3-dask and python3
 # 20 ms tick and the memory monitor only wake up on cores the runs need. A client passed to
 # sweep keeps its own settings.
 LOCAL_CLUSTER_CONFIG = {
-    # One run at a time on a worker of one thread, none waiting there: a run that kills its worker
-    # (a crash in compiled code) then takes no other run down with it.
+    # One run at a time on a worker of one thread, none waiting there, in a sweep of many runs (Dask
+    # queues only large groups): a run that kills its worker (a crash in compiled code) then takes
+    # few others down with it, and those go again alone.
     "distributed.scheduler.worker-saturation": 1.0,
     "distributed.worker.profile.enabled": False,
     "distributed.admin.tick.interval": "1s",
@@ -313,7 +314,15 @@ def _run_on_dask(run, tasks, client, workers, progress):
                                  "`dask scheduler` and workers with `dask worker ADDRESS`") from None
         futures = [client.submit(_run_one, run, point, seed, pure=False) for point, seed in tasks]
         try:
-            return _gather(futures, as_completed, progress)
+            outcomes = _gather(futures, as_completed, progress, count_lost=False)
+            # A run whose worker died beside a run that crashed it is lost with it (Dask gives up on
+            # every run that was on a worker as often as it died); each lost run goes again alone,
+            # so that only a run that kills its worker on its own is reported as lost.
+            for k, outcome in enumerate(outcomes):
+                if outcome is LOST:
+                    futures[k:k + 1] = [client.submit(_run_one, run, *tasks[k], pure=False)]
+                    outcomes[k] = _gather(futures[k:k + 1], as_completed, progress, count_lost=True)[0]
+            return outcomes
         except BaseException:  # an interrupt: the runs not done yet must not go on on a shared cluster
             client.cancel(futures)
             raise
@@ -322,17 +331,26 @@ def _run_on_dask(run, tasks, client, workers, progress):
             own_client.close()  # and the local cluster it started
 
 
-def _gather(futures, as_completed, progress):
-    """The outcome of each future, in the futures' order, as they finish."""
+LOST = object()  # a run whose worker died, not yet run again alone
+
+
+def _gather(futures, as_completed, progress, count_lost):
+    """The outcome of each future, in the futures' order, as they finish; a run whose worker died
+    (a crash in the run, memory) more often than Dask retries is LOST unless count_lost."""
     index = {future.key: k for k, future in enumerate(futures)}
     outcomes = [None] * len(futures)
     for future in as_completed(futures):
         k = index[future.key]
         if future.status == "finished":
             outcomes[k] = future.result()
-        else:  # the worker died (a crash in the run, memory) more often than Dask retries
+        else:
             error = future.exception()
-            lost = "worker lost: " if type(error).__name__ == "KilledWorker" else ""
+            killed = type(error).__name__ == "KilledWorker"
+            if killed and not count_lost:
+                outcomes[k] = LOST
+                future.release()
+                continue
+            lost = "worker lost: " if killed else ""
             outcomes[k] = (None, math.nan, lost + _one_line(error), "".join(traceback.format_exception_only(error)))
         future.release()
         progress.update(1, outcomes[k][2] is not None)
