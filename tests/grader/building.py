@@ -14,6 +14,7 @@ only as objects: the harness (tests/grader/judge/worker_main.cpp), the task file
 tasks' code, so nothing in it is a library member a submission could replace.
 """
 
+import fcntl
 import functools
 import hashlib
 import json
@@ -107,6 +108,24 @@ class Build:
         if not ok:
             raise RuntimeError("building the grader's own code failed:\n" + output[-20000:])
         self.submitted.mkdir(exist_ok=True)
+
+    @property
+    def ready_stamp(self):
+        return self.folder / "grader-ready.json"
+
+    def is_ready(self):
+        """Whether a grading finished building this folder, with these dependencies, and nothing
+        has started building it since."""
+        try:
+            return json.loads(self.ready_stamp.read_text()) == {"dependencies": self.dependencies}
+        except (OSError, ValueError):
+            return False
+
+    def mark_ready(self, ready):
+        if ready:
+            write_text(self.ready_stamp, json.dumps({"dependencies": self.dependencies}))
+        else:
+            self.ready_stamp.unlink(missing_ok=True)
 
     def judge(self, task):
         """The task's graded suite with proxies for the course's functions (no submitted code)."""
@@ -208,7 +227,7 @@ class Remembered:
 
     def remember(self, key, content, extra):
         try:
-            partial = self.folder / f"{key}.bin.partial"
+            partial = self.folder / f"{key}.bin.{os.getpid()}.partial"  # gradings may share the folder
             partial.write_bytes(content)
             os.replace(partial, self.folder / f"{key}.bin")
             write_text(self.folder / f"{key}.json", json.dumps(extra))
@@ -220,8 +239,36 @@ class Remembered:
             pass
 
 
+class BuildLock:
+    """Held by every grading that uses a build folder: alone to build it, with the others to
+    grade from it. Several gradings may share one (the class grader's workers on a machine), and
+    a build must never rewrite a file that a grading reads: the gradings' compilers read the
+    precompiled header through hard links, and one rewritten under a running compiler kills it
+    with a bus error. Where the folder's parent is not the grader's to write (an Autolab job's
+    user, beside the image's build), no one builds there and there is no lock."""
+
+    def __init__(self, folder):
+        try:
+            self.file = open(folder.parent / f"{folder.name}.lock", "a")
+        except OSError:
+            self.file = None
+
+    def to_build(self):
+        """Waits until no other grading uses the folder."""
+        if self.file:
+            fcntl.flock(self.file, fcntl.LOCK_EX)
+
+    def to_grade(self):
+        if self.file:
+            fcntl.flock(self.file, fcntl.LOCK_SH)
+
+    def close(self):
+        if self.file:
+            self.file.close()
+
+
 def write_text(path, text):
-    partial = path.with_name(path.name + ".partial")
+    partial = path.with_name(f"{path.name}.{os.getpid()}.partial")  # gradings may share the folder
     partial.write_text(text)
     os.replace(partial, path)
 

@@ -34,6 +34,7 @@ for bad arguments.
 """
 
 import argparse
+import contextlib
 import json
 import os
 import sys
@@ -42,7 +43,7 @@ from pathlib import Path
 
 import cell
 import time_limits
-from building import REPO, Build, TaskFileCompiler, build_suites, stage_submission
+from building import REPO, Build, BuildLock, TaskFileCompiler, build_suites, stage_submission
 from judging import ResultCache, place_pictures, run_tests
 from course import TASK_FILE, TASKS
 from reports import (gradescope_results, googletest_log, junit_xml, print_table, submission_report, task_records,
@@ -76,6 +77,13 @@ def parse_arguments(argv):
                         help="with --client, where the workers' copy of this repository is (default: this one's path)")
     parser.add_argument("--build", type=Path, default=REPO / "build" / "grade" / "build",
                         help="build folder (default: build/grade/build)")
+    parser.add_argument("--work", type=Path,
+                        help="folder for this grading's own copy of the submitted files (default: the build "
+                             "folder's parent); gradings that share a build folder each need their own")
+    parser.add_argument("--prebuilt", action="store_true",
+                        help="the build folder is shared with other gradings (the class grader's workers on one "
+                             "machine) and was built by --prepare: grade from it without building, unless it is "
+                             "not ready")
     parser.add_argument("--dependencies", choices=["reference", "submission"],
                         help="code for the other tasks of each suite: the reference solutions (default where "
                              "solutions/ exists) or the submission's own files")
@@ -137,8 +145,9 @@ def parse_arguments(argv):
         return arguments
     if arguments.results is None:
         arguments.results = REPO / "build" / "grade" / "results"
-    for folder in ["submission", "results", "build"]:  # the build's own records hold absolute paths
-        setattr(arguments, folder, getattr(arguments, folder).absolute())
+    for folder in ["submission", "results", "build", "work"]:  # the build's own records hold absolute paths
+        if getattr(arguments, folder) is not None:
+            setattr(arguments, folder, getattr(arguments, folder).absolute())
     if not arguments.submission.is_dir():
         fail(f"--submission {arguments.submission} is not a folder; give the folder that holds the task files")
     if arguments.dependencies is None:
@@ -165,23 +174,36 @@ def parse_arguments(argv):
 def grade(arguments):
     started = time.monotonic()
     tasks = arguments.task or TASKS
-    grading = arguments.build.parent
-    grading.mkdir(parents=True, exist_ok=True)
+    grading = arguments.work or arguments.build.parent
+    for folder in {grading, arguments.build.parent}:
+        folder.mkdir(parents=True, exist_ok=True)
 
     # Only the task files are taken from the submission, into a folder of the grader's own.
     if not arguments.prepare:
         staged, problems = stage_submission(arguments.submission, grading)
     build = Build(arguments.build, arguments.dependencies, arguments.build_timeout)
-    print(f"grade: building the grader's own code and the graded suites in {arguments.build} (a minute or two the "
-          "first time, seconds after), with "
-          f"{'the reference code for the other tasks' if arguments.dependencies == 'reference' else 'your code for every task'}",
-          flush=True)
-    build.configure()
-    build.prebuild()
-    with protected(arguments.protect_reference, build), cell.Cells(build.launcher, TASKS) as cells:
+    lock = BuildLock(arguments.build)
+    if arguments.prebuilt:
+        lock.to_grade()
+    building = not (arguments.prebuilt and build.is_ready())
+    if building:
+        lock.to_build()
+        build.mark_ready(False)
+        print(f"grade: building the grader's own code and the graded suites in {arguments.build} (a minute or two "
+              "the first time, seconds after), with "
+              f"{'the reference code for the other tasks' if arguments.dependencies == 'reference' else 'your code for every task'}",
+              flush=True)
+        build.configure()
+        build.prebuild()
+    else:
+        print(f"grade: grading with the grader built in {arguments.build}", flush=True)
+    with lock_closed(lock), protected(arguments.protect_reference, build), cell.Cells(build.launcher, TASKS) as cells:
         print(f"grade: each grading in its cells: {cells.protections.describe()}", flush=True)
         compiler = TaskFileCompiler(build, cells)
         limits, factor, slower = task_limits(arguments, build, compiler, cells, grading)
+        if building:  # built and measured: other gradings may use the folder now, and so do we
+            build.mark_ready(True)
+            lock.to_grade()
         own_build = time.monotonic() - started  # the grader's own work, whatever the submission
         if arguments.prepare:
             print(f"grade: the grader is ready in {arguments.build} ({own_build:.0f} s)", flush=True)
@@ -210,6 +232,14 @@ def grade(arguments):
     print(f"grade: {elapsed:.0f} s in all, of which {own_build:.0f} s for the grader's own build; "
           + limits_summary(limits, tasks, factor, slower))
     return results
+
+
+@contextlib.contextmanager
+def lock_closed(lock):
+    try:
+        yield
+    finally:
+        lock.close()
 
 
 class protected:

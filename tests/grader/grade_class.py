@@ -271,9 +271,9 @@ def grade_on_worker(repo, files, options, cutoff):
         worker = str(get_worker().name)
     except (ImportError, ValueError):
         worker = str(os.getpid())
-    # A build of the grader per worker: a grading links its workers with hard links to the build's
-    # precompiled header, which another worker's build must never rewrite under it (one shared
-    # build gave a compiler's bus error there).
+    # One build of the grader per machine, made by the preparing step and shared by the machine's
+    # workers (grade.py --prebuilt: it never builds there while a grading uses it); a folder of its
+    # own per worker for the rest.
     machine = repo / "build" / "grade" / "workers" / re.sub(r"[^A-Za-z0-9._-]", "_", socket.gethostname())
     here = machine.with_name(f"{machine.name}-{re.sub(r'[^A-Za-z0-9._-]', '_', worker)}")
     here.mkdir(parents=True, exist_ok=True)
@@ -287,8 +287,8 @@ def grade_on_worker(repo, files, options, cutoff):
         records = here / "records.json"
         records.unlink(missing_ok=True)
         command = ["/usr/bin/python3", str(repo / "tests" / "grader" / "grade.py"), "--submission", str(submission),
-                   "--results", str(here / "results"), "--build", str(here / "build"),
-                   "--records", str(records),
+                   "--results", str(here / "results"), "--build", str(machine / "build"), "--work", str(here),
+                   "--prebuilt", "--records", str(records),
                    *options, *(["--prepare"] if files is None else [])]
         if os.geteuid() == 0:
             command.append("--protect-reference")
@@ -631,22 +631,25 @@ def run_pending(arguments, results, pending, progress):
 
 
 def prepare(client, repo):
-    """Has every worker build the grader (and measure the reference's times) before grading: one
-    progress step with its time, not hidden in the first student's."""
+    """Has the grader built (and the reference's times measured) once on each machine, before
+    grading: one progress step with its time, not hidden in the first student's."""
     started = time.monotonic()
-    workers = list(client.scheduler_info()["workers"])
-    print(f"grade: building the grader on {len(workers)} workers (a few minutes the first time, seconds after)",
-          flush=True)
+    workers = client.scheduler_info()["workers"]
+    one_per_machine = list({info["host"]: address for address, info in workers.items()}.values())
+    machines = f"{len(one_per_machine)} machine{'s' if len(one_per_machine) > 1 else ''}"
+    print(f"grade: building the grader once on {machines} for {len(workers)} workers (a few minutes the first time, "
+          "seconds after)", flush=True)
     futures = [client.submit(grade_on_worker, repo, None, grading_options([]), STUDENT_CUTOFF, pure=False, workers=[address],
                              allow_other_workers=False, key=f"prepare-{address}-{time.time_ns()}")
-               for address in workers]
+               for address in one_per_machine]
     try:
         for future in futures:
             future.result()
-    except Exception as error:  # its student's grading says it again, with its log
-        print(f"grade: a worker could not build the grader ({type(error).__name__}); its first student's log will "
+    except Exception as error:  # its machine's first grading builds it again, and its log says why
+        print(f"grade: a machine could not build the grader ({type(error).__name__}); its first student's log will "
               "say why", flush=True)
-    print(f"grade: the grader is ready on {len(workers)} workers ({time.monotonic() - started:.0f} s)", flush=True)
+    print(f"grade: the grader is ready on {machines} for {len(workers)} workers ({time.monotonic() - started:.0f} s)",
+          flush=True)
 
 
 def own_build_seconds(log):

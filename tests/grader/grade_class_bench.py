@@ -5,7 +5,7 @@ workers against the same students graded one after another, side by side in one 
     /usr/bin/python3 tests/grader/grade_class_bench.py [--workers 2] [--rounds 2] [--all-tasks] [--same-files]
 
 Each round grades the class both ways from nothing: new results folders and no grader built
-(the workers' build folders, build/grade/workers/<machine>-<worker>/build, and the serial run's
+(the workers' shared build folder, build/grade/workers/<machine>/build, and the serial run's
 are removed first; the compiler cache stays), alternating which goes first. It prints each way's
 wall time split into the grader's build and the grading, and their ratio; then the time of a run
 again of the finished class, which grades nobody. By default every student's files differ from
@@ -69,7 +69,7 @@ def main():
         """(wall seconds, the grader's build in them)."""
         seconds, output = timed(["/usr/bin/python3", str(HERE / "grade.py"), "--class", str(work / "class"),
                                  "--results", str(results), "--workers", str(arguments.workers), *task_options])
-        built = re.search(r"the grader is ready on \d+ workers \((\d+) s\)", output)
+        built = re.search(r"the grader is ready on .* workers \((\d+) s\)", output)
         return seconds, float(built[1]) if built else 0.0
 
     def one_by_one():
@@ -99,8 +99,7 @@ def main():
         order = ["class", "serial"] if round_number % 2 == 0 else ["serial", "class"]
         seconds = {}
         for way in order:
-            for folder in workers.glob(f"{host}-*/build") if way == "class" else [work / "serial-build"]:
-                shutil.rmtree(folder, ignore_errors=True)
+            shutil.rmtree(workers / host / "build" if way == "class" else work / "serial-build", ignore_errors=True)
             seconds[way] = in_class(results) if way == "class" else one_by_one()
         ratios.append(seconds["class"][0] / seconds["serial"][0])
         print(f"round {round_number + 1}: " + ", ".join(

@@ -322,7 +322,7 @@ class OnACluster(unittest.TestCase):
         self.assertEqual({int(n) for _, n, _ in lines}, {to_grade})
         self.assertEqual(len({name for _, _, name in lines}), to_grade, "a student graded twice, or not shown")
         self.assertTrue(set(name for _, _, name in lines) <= set(students))
-        self.assertRegex(output, r"grade: the grader is ready on \d+ workers \(\d+ s\)")
+        self.assertRegex(output, r"grade: the grader is ready on 1 machine for \d+ workers \(\d+ s\)")
         self.assertRegex(output, r"the same files as [^\n]*, graded once", "no student shown as a copy")
 
     def check_mistakes(self, results, points, students):
