@@ -21,8 +21,10 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -65,6 +67,21 @@ const std::vector<System> kSystems = {{10, 1, 10, 50, 1}, {10, 1, 10, 50, 2}, {4
 
 std::string call(const System& s) {
   return text("movie(", s.R, ", ", s.a, ", ", s.n, ", coordinates, velocities, ", s.collisions, ", svg_file)");
+}
+
+// A failure about the file's text draws the file's lines around `marked` (the lines the message
+// is about), not a table.
+void show_lines(const std::string& file_text, std::vector<int> marked, std::string heading) {
+  set_case_source([file_text, marked = std::move(marked), heading = std::move(heading)] {
+    return std::optional<FailingCase>(lines_case(file_text, "the movie's SVG file", marked, heading));
+  });
+}
+
+// The lines of the first few circles, for a failure about how many there are.
+std::vector<int> circle_lines(const std::vector<const SvgCircle*>& circles) {
+  std::vector<int> lines;
+  for (std::size_t k = 0; k < circles.size() && k < 3; ++k) lines.push_back(circles[k]->line);
+  return lines;
 }
 
 // The truth: `collisions` calls of propagate on copies of the inputs.
@@ -112,6 +129,11 @@ std::optional<SvgDocument> read_movie(const System& s, const fs::path& file) {
   try {
     return read_svg(file);
   } catch (const SvgError& error) {
+    std::ifstream in(file, std::ios::binary);
+    std::ostringstream file_text;
+    file_text << in.rdbuf();
+    show_lines(file_text.str(), error.line() ? std::vector<int>{error.line()} : std::vector<int>{},
+               "The file as written, where the reader stopped");
     ADD_FAILURE() << explain(text(call(s), " to write a well-formed SVG file: <svg xmlns=\"http://www.w3.org/2000/svg\" "
                                               "...> with a <circle> for the table and one per disc, each with "
                                               "<animate> children, then </svg>"),
@@ -143,6 +165,7 @@ struct Film {
   double k = 1;                             // SVG units per table unit
   double sign = 1;                          // +1: y down as in the file, -1: y flipped
   std::vector<const SvgCircle*> discs;      // discs[i] shows row i
+  const SvgDocument* document = nullptr;    // the file they are in
 };
 
 // How an animation that breaks the rules is read: as an error for the student, or as a browser
@@ -181,6 +204,7 @@ std::array<double, 2> shown_position(const Film& film, const SvgCircle& disc, do
 std::optional<Film> match_discs(const SvgDocument& picture, const System& s, const Coordinates& start, Reading reading,
                                 double& worst) {
   Film film;
+  film.document = &picture;
   const auto circles = picture.rendered_circles();
   for (const SvgCircle* circle : circles) {
     if (!film.table || circle->radius > film.table->radius) film.table = circle;
@@ -229,6 +253,7 @@ std::optional<Film> understand(const SvgDocument& picture, const System& s, cons
   try {
     film = match_discs(picture, s, start, Reading::strict, best_error);
   } catch (const SvgError& error) {
+    show_lines(picture.text, {error.line()}, "The animation a browser cannot play");
     ADD_FAILURE() << explain(text(call(s), " to write <animate> elements a browser can play"), error.what(),
                              animation_hint(error.what()));
     return std::nullopt;
@@ -239,6 +264,7 @@ std::optional<Film> understand(const SvgDocument& picture, const System& s, cons
     for (const SvgCircle* circle : circles) {
       if (!table || circle->radius > table->radius) table = circle;
     }
+    show_lines(picture.text, circle_lines(circles), text("The file's first <circle> elements, of ", circles.size()));
     ADD_FAILURE() << explain(text(call(s), " to draw ", s.n + 1, " <circle> elements: the table (the largest, with "
                                                                   "radius table_radius times any scale) and one per disc"),
                              text("the file has ", circles.size(), " <circle> elements",
@@ -338,42 +364,61 @@ std::optional<FailingCase> movie_case(const System& s, const SvgDocument& pictur
   return std::nullopt;
 }
 
-// Checks the positions shown at `fractions` against `expected` (one Coordinates per fraction);
-// `moment(j)` describes moment j for the message. Reports the worst error if it is too large.
+// Checks the positions shown at `fractions` against `expected` (one Coordinates per fraction, and
+// the velocities there for the picture); `moment(j)` describes moment j for the message. Reports
+// the first moment at which a disc is off (its farthest disc there), which is where the mistake
+// shows first, and draws that same moment.
 template <typename Describe>
 void expect_positions(const System& s, const Film& film, const std::vector<double>& fractions,
-                      const std::vector<Coordinates>& expected, Describe moment, const std::string& hint) {
-  double worst = -1;
-  std::size_t worst_j = 0;
-  Eigen::Index worst_i = 0;
-  std::array<double, 2> worst_shown{0, 0};
+                      const std::vector<Coordinates>& expected, const std::vector<Velocities>& velocities,
+                      Describe moment, const std::string& hint) {
+  struct Off {
+    std::size_t j = 0;
+    Eigen::Index i = 0;
+    double error = 0;
+    std::array<double, 2> shown{0, 0};
+  };
+  std::optional<Off> first, farthest;
+  Coordinates first_shown;
   try {
     for (std::size_t j = 0; j < fractions.size(); ++j) {
+      Coordinates shown(s.n, 2);
+      std::optional<Off> here;
       for (Eigen::Index i = 0; i < s.n; ++i) {
         const auto p = shown_position(film, *film.discs[static_cast<std::size_t>(i)], fractions[j]);
-        const double error = std::hypot(p[0] - expected[j](i, 0), p[1] - expected[j](i, 1));
-        if (!(error <= worst) || std::isnan(error)) {
-          worst = std::isnan(error) ? kInf : error;
-          worst_j = j;
-          worst_i = i;
-          worst_shown = p;
-        }
+        shown.row(i) << p[0], p[1];
+        double error = std::hypot(p[0] - expected[j](i, 0), p[1] - expected[j](i, 1));
+        if (std::isnan(error)) error = kInf;
+        if (!(error <= kPictureTolerance * s.R) && (!here || error > here->error)) here = Off{j, i, error, p};
+      }
+      if (here && (!farthest || here->error > farthest->error)) farthest = here;
+      if (here && !first) {
+        first = here;
+        first_shown = shown;
       }
     }
   } catch (const SvgError& error) {
+    show_lines(film.document->text, {error.line()}, "The animation a browser cannot play");
     ADD_FAILURE() << explain(text(call(s), " to write <animate> elements a browser can play"), error.what(),
                              animation_hint(error.what()));
     return;
   }
-  if (worst > kPictureTolerance * s.R) {
-    ADD_FAILURE() << explain(
-        text(call(s), ": ", moment(worst_j), ", i.e. at fraction ", fractions[worst_j],
-             " of the animation's duration, disc ", worst_i, " (row ", worst_i, " of coordinates) should be shown at ",
-             row(expected[worst_j], worst_i), " (within ", kPictureTolerance * s.R, ")"),
-        text("the animation shows it at (", worst_shown[0], ", ", worst_shown[1], "), ", worst, " away (line ",
-             film.discs[static_cast<std::size_t>(worst_i)]->line, ")"),
-        hint);
-  }
+  if (!first) return;
+  const std::size_t j = first->j;
+  set_case_source([s, expected = expected[j], velocities = velocities[j], first_shown,
+                   heading = text("The moment the message reports, ", moment(j), ", fraction ", fractions[j],
+                                  " of the animation: the first at which it shows a disc away from its place")] {
+    return positions_case(s, expected, velocities, first_shown, heading, "the animation");
+  });
+  const std::string later = farthest->j != j ? text("; later, up to ", farthest->error, " away ", moment(farthest->j))
+                                             : std::string();
+  ADD_FAILURE() << explain(
+      text(call(s), ": ", moment(j), ", i.e. at fraction ", fractions[j], " of the animation's duration, disc ",
+           first->i, " (row ", first->i, " of coordinates) should be shown at ", row(expected[j], first->i),
+           " (within ", kPictureTolerance * s.R, ")"),
+      text("the animation shows it at (", first->shown[0], ", ", first->shown[1], "), ", first->error, " away (line ",
+           film.discs[static_cast<std::size_t>(first->i)]->line, "): the first moment a disc is off", later),
+      hint);
 }
 
 // --- State -----------------------------------------------------------------------------------
@@ -415,6 +460,7 @@ GRADED_TEST(Movie, DrawsTheTableAndOneCirclePerDisc, 2, visible) {
     if (!picture) return;
     const auto circles = picture->rendered_circles();
     if (static_cast<int>(circles.size()) != s.n + 1) {
+      show_lines(picture->text, circle_lines(circles), text("The file's first <circle> elements, of ", circles.size()));
       ADD_FAILURE() << explain(text(call(s), " to draw ", s.n + 1, " <circle> elements: the table and one per disc"),
                                text("the file has ", circles.size(), " <circle> elements"),
                                "write one <circle> per disc with its <animate> children inside, not one circle per "
@@ -434,6 +480,7 @@ GRADED_TEST(Movie, EveryDiscAnimatesCxAndCy, 2, visible) {
       if (!table || circle->radius > table->radius) table = circle;
     }
     if (circles.size() < 2) {
+      show_lines(picture->text, circle_lines(circles), text("The file's <circle> elements, ", circles.size()));
       ADD_FAILURE() << explain(text(call(s), " to draw the table and ", s.n, " discs as <circle> elements"),
                                text("the file has ", circles.size(), " <circle> elements"),
                                "write one <circle> for the table and one for each disc");
@@ -444,6 +491,7 @@ GRADED_TEST(Movie, EveryDiscAnimatesCxAndCy, 2, visible) {
       for (const char* attribute : {"cx", "cy"}) {
         const std::size_t count = disc->animations_of(attribute).size();
         if (count != 1) {
+          show_lines(picture->text, {disc->line}, text("A disc's <circle> with ", count, " <animate> of ", attribute));
           ADD_FAILURE() << explain(
               text(call(s), ": every disc's <circle> to contain one <animate attributeName=\"", attribute,
                    "\" .../> with all its positions"),
@@ -469,6 +517,7 @@ GRADED_TEST(Movie, AnimationsInterpolateLinearly, 2, after_due_date) {
       for (const SvgAnimation* animation : circle->animations_of(attribute)) {
         ++animations;
         if (!animation->calc_mode.empty() && animation->calc_mode != "linear") {
+          show_lines(picture->text, {animation->line}, "An <animate> that does not move at constant velocity");
           ADD_FAILURE() << explain(
               text(call(s), " to animate cx and cy with calcMode=\"linear\" (or no calcMode, which means linear)"),
               text("the <animate> on line ", animation->line, " has calcMode=\"", animation->calc_mode, "\""),
@@ -504,6 +553,7 @@ GRADED_TEST(Movie, AnimationsShareAPositiveDuration, 2, after_due_date) {
       for (const SvgAnimation* animation : circle->animations_of(attribute)) {
         const double seconds = animation->dur_seconds();
         if (!(seconds > 0) || !std::isfinite(seconds)) {
+          show_lines(picture->text, {animation->line}, "An <animate> without a positive duration");
           ADD_FAILURE() << explain(
               text(call(s), ": every <animate> to have a duration dur=\"...\" of a positive, finite number of "
                             "seconds (e.g. dur=\"12.5s\")"),
@@ -516,6 +566,7 @@ GRADED_TEST(Movie, AnimationsShareAPositiveDuration, 2, after_due_date) {
           first = animation;
         } else if (std::abs(seconds - first->dur_seconds()) > 1e-6 * first->dur_seconds() ||
                    !same_begin(*animation, *first)) {
+          show_lines(picture->text, {first->line, animation->line}, "Two <animate> elements on different clocks");
           ADD_FAILURE() << explain(
               text(call(s), ": all discs to be animated on one clock: the same dur (and begin) for every <animate>"),
               text("line ", first->line, " has dur=\"", first->dur, "\" begin=\"", first->begin, "\", line ",
@@ -547,7 +598,7 @@ GRADED_TEST(Movie, AnimationShowsTheDiscsAtEveryCollision, 3, visible) {
     const bool key_times = !understood->discs.empty() && !understood->discs.front()->animations_of("cx").empty() &&
                            understood->discs.front()->animations_of("cx").front()->has_key_times;
     expect_positions(
-        s, *understood, fractions, t.positions,
+        s, *understood, fractions, t.positions, t.velocities,
         [&](std::size_t k) {
           return k == 0 ? std::string("at the start (time 0)")
                         : text("at collision ", k, " (time ", t.times[k], " of ", t.total(), ")");
@@ -572,15 +623,17 @@ GRADED_TEST(Movie, AnimationMovesTheDiscsInStraightLinesBetweenCollisions, 2, af
     // (position and velocity just after collision k - 1) takes it.
     std::vector<double> fractions;
     std::vector<Coordinates> expected;
+    std::vector<Velocities> velocities;
     std::vector<std::size_t> after;
     for (std::size_t k = 1; k < t.times.size(); ++k) {
       const double dt = t.times[k] - t.times[k - 1];
       fractions.push_back((t.times[k - 1] + dt / 2) / t.total());
       expected.push_back(t.positions[k - 1] + dt / 2 * t.velocities[k - 1]);
+      velocities.push_back(t.velocities[k - 1]);
       after.push_back(k - 1);
     }
     expect_positions(
-        s, *understood, fractions, expected,
+        s, *understood, fractions, expected, velocities,
         [&](std::size_t j) {
           return text("half way between ", after[j] == 0 ? std::string("the start") : text("collision ", after[j]),
                       " and collision ", after[j] + 1, " (time ", t.times[after[j]] + (t.times[after[j] + 1] - t.times[after[j]]) / 2, ")");
@@ -618,7 +671,7 @@ GRADED_TEST(Movie, ZeroCollisionsDrawAStillTable, 2, after_due_date) {
   const auto understood = understand(*picture, s, start);
   if (!understood) return;
   expect_positions(
-      s, *understood, {0.0, 0.5, 1.0}, {start, start, start},
+      s, *understood, {0.0, 0.5, 1.0}, {start, start, start}, std::vector<Velocities>(3, s.velocities()),
       [](std::size_t) { return std::string("in the still picture"); },
       "with no collisions the total time is 0: avoid dividing by it (keyTimes 0/0 is NaN); write each disc at its "
       "position, e.g. with a single value values=\"x\" or no <animate> at all");

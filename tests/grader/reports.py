@@ -165,7 +165,7 @@ def picture_html(test, folder):
         data = base64.b64encode((folder / test.picture).read_bytes()).decode()
     except OSError:
         return ""
-    return (f'<img alt="the failing case of {html.escape(test.name)}, drawn" style="max-width: 100%" '
+    return (f'<img alt="the failing case of {html.escape(test.name)}, drawn" style="width: 100%; max-width: 800px; max-height: 95vh" '
             f'src="data:image/svg+xml;base64,{data}">')
 
 

@@ -10,7 +10,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <system_error>
 
 namespace billiard::testing {
@@ -158,13 +160,16 @@ std::string metadata_of(const FailingCase& failing, std::string_view test) {
                   number(b.walls[k].b(0)), ", ", number(b.walls[k].b(1)), "]");
   }
   walls += "]";
+  std::string marked = "[";
+  for (std::size_t k = 0; k < failing.listing.marked.size(); ++k) marked += text(k ? ", " : "", failing.listing.marked[k]);
+  marked += "]";
   return text("{\"test\": ", json_string(test), ", \"kind\": ", json_string(failing.kind),
               ", \"heading\": ", json_string(failing.heading),
               ", \"table_radius\": ", number(b.table_radius), ", \"circle_radius\": ", number(b.circle_radius),
               ", \"walls\": ", walls, ", \"gravity\": [", number(b.gravity(0)), ", ", number(b.gravity(1)),
               "], \"cell_size\": ", number(b.cell_size), ", \"coordinates\": ", json_rows(b.coordinates),
               ", \"velocities\": ", json_rows(b.velocities), ", \"expected\": ", json_outcome(failing.expected_outcome),
-              ", \"yours\": ", json_outcome(failing.your_outcome), "}");
+              ", \"yours\": ", json_outcome(failing.your_outcome), ", \"marked_lines\": ", marked, "}");
 }
 
 // Lines of at most `width` characters, broken at spaces.
@@ -424,8 +429,108 @@ FailingCase state_case(Board board, std::string heading) {
   return failing;
 }
 
+FailingCase lines_case(std::string_view file_text, std::string file_name, std::vector<int> marked,
+                       std::string heading) {
+  constexpr int kContext = 4;  // lines shown before and after each marked one
+  std::vector<std::string> all;
+  std::istringstream in{std::string(file_text)};
+  for (std::string line; std::getline(in, line);) all.push_back(line);
+  const int count = static_cast<int>(all.size());
+  std::vector<bool> shown(all.size(), false);
+  if (marked.empty()) {
+    for (int k = 0; k < std::min(count, 2 * kContext + 1); ++k) shown[static_cast<std::size_t>(k)] = true;
+  }
+  for (const int line : marked) {
+    for (int k = std::max(1, line - kContext); k <= std::min(count, line + kContext); ++k) {
+      shown[static_cast<std::size_t>(k - 1)] = true;
+    }
+  }
+  FailingCase failing;
+  failing.kind = "lines";
+  failing.heading = std::move(heading);
+  failing.listing.file_name = std::move(file_name);
+  failing.listing.marked = std::move(marked);
+  for (int k = 0; k < count; ++k) {
+    if (!shown[static_cast<std::size_t>(k)]) continue;
+    if (k > 0 && !shown[static_cast<std::size_t>(k - 1)]) failing.listing.lines.push_back({0, ""});
+    failing.listing.lines.push_back({k + 1, all[static_cast<std::size_t>(k)]});
+  }
+  if (count > 0 && !shown.back()) failing.listing.lines.push_back({0, ""});
+  return failing;
+}
+
+namespace {
+
+// The picture of a "lines" case: the file's lines in a fixed-width font, numbered, the marked
+// ones on an orange ground, with the test's message under them; sized to the window as the
+// tables' pictures are.
+void draw_listing(const FailingCase& failing, std::string_view test, std::string_view expected, std::string_view got,
+                  const std::string& file) {
+  constexpr std::size_t kColumns = 110;  // characters of a file's line per row
+  constexpr std::size_t kRowsPerLine = 3;  // a longer line is cut after these
+  constexpr double kSize = 14, kLineHeight = 1.45 * kSize, kCharacter = 0.6 * kSize, kMargin = 12;
+  const double number_width = 7 * kCharacter;
+  const double width = 2 * kMargin + number_width + kColumns * kCharacter;
+  std::ostringstream body;
+  double y = kMargin + kSize;
+  const auto row = [&](double x, const std::string& words, const std::string& attributes) {
+    body << "  <text x=\"" << x << "\" y=\"" << y << "\" font-size=\"" << kSize << "\" " << attributes
+         << " xml:space=\"preserve\">" << TableSvg::escaped(words) << "</text>\n";
+    y += kLineHeight;
+  };
+  const std::string sans = "font-family=\"sans-serif\" fill=\"#212121\"";
+  const std::string mono = "font-family=\"monospace\" fill=\"#212121\"";
+  const std::size_t text_width = static_cast<std::size_t>((width - 2 * kMargin) / (0.55 * kSize));
+  row(kMargin, std::string(test), "font-family=\"sans-serif\" font-weight=\"bold\" fill=\"#000000\"");
+  for (const auto& line : wrapped(failing.heading, text_width)) row(kMargin, line, sans);
+  row(kMargin, text("Lines of ", failing.listing.file_name, ": what the message is about on an orange ground"),
+      "font-family=\"sans-serif\" font-weight=\"bold\" fill=\"" + std::string(kYourColour) + "\"");
+  for (const auto& [number, line] : failing.listing.lines) {
+    if (number == 0) {
+      row(kMargin, "   ...", mono);
+      continue;
+    }
+    const bool marked = std::find(failing.listing.marked.begin(), failing.listing.marked.end(), number) !=
+                        failing.listing.marked.end();
+    for (std::size_t part = 0; part * kColumns < std::max<std::size_t>(line.size(), 1); ++part) {
+      if (marked) {
+        body << "  <rect x=\"" << kMargin / 2 << "\" y=\"" << y - kSize << "\" width=\"" << width - kMargin
+             << "\" height=\"" << kLineHeight << "\" fill=\"#ffe0b2\" class=\"marked\"/>\n";
+      }
+      if (part == kRowsPerLine) {
+        row(kMargin + number_width, text("... (", line.size() - part * kColumns, " more characters on this line)"),
+            mono + " font-style=\"italic\"");
+        break;
+      }
+      const std::string number_text = part == 0 ? std::to_string(number) : "";
+      row(kMargin, std::string(6 - std::min<std::size_t>(6, number_text.size()), ' ') + number_text,
+          "font-family=\"monospace\" fill=\"#757575\"");
+      y -= kLineHeight;
+      row(kMargin + number_width, line.substr(part * kColumns, kColumns), mono);
+    }
+  }
+  y += kLineHeight / 2;
+  row(kMargin, "The test's message", "font-family=\"sans-serif\" font-weight=\"bold\" fill=\"#000000\"");
+  for (const auto& line : wrapped(text("Expected: ", expected), text_width)) row(kMargin, line, sans);
+  for (const auto& line : wrapped(text("Your code: ", got), text_width)) row(kMargin, line, sans);
+  const double height = y + kMargin;
+  std::ofstream out(file);
+  out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+      << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100%\" height=\"100%\" viewBox=\"0 0 " << width << ' '
+      << height << "\">\n  <title>" << TableSvg::escaped(text(test, ": ", failing.heading)) << "</title>\n  <metadata>"
+      << TableSvg::escaped(metadata_of(failing, test)) << "</metadata>\n"
+      << "  <rect width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>\n" << body.str() << "</svg>\n";
+  if (!out.flush()) throw std::runtime_error("writing " + file + " failed");
+}
+
+}  // namespace
+
 void draw_failing_case(const FailingCase& failing, std::string_view test, std::string_view expected,
                        std::string_view got, const std::string& file) {
+  if (failing.kind == "lines") {
+    draw_listing(failing, test, expected, got, file);
+    return;
+  }
   const Board& board = failing.board;
   const double R = board.table_radius, a = board.circle_radius;
   const int n = circle_count(board);
@@ -469,7 +574,8 @@ void draw_failing_case(const FailingCase& failing, std::string_view test, std::s
   for (const auto& line : wrapped(text("Expected: ", expected), kWidth)) legend.push_back({"", line});
   for (const auto& line : wrapped(text("Your code: ", got), kWidth)) legend.push_back({"", line});
 
-  TableSvg picture(R, (static_cast<double>(legend.size()) + 1.5) * line_height / R, 800);
+  TableSvg picture(R, (static_cast<double>(legend.size()) + 2.5) * line_height / R, 800);
+  picture.fit_window();  // the legend under the table stays in view in a window of any shape
   picture.title(text(test, ": ", failing.heading));
   picture.metadata(metadata_of(failing, test));
   picture.table("#f1f8e9", "class=\"table\"");

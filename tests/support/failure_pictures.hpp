@@ -96,15 +96,23 @@ struct Account {
   int wall = -1;                // the straight wall it touches (walls[wall]), or -1
   std::vector<std::pair<int, std::string>> not_finite;  // (circle, "velocity is NaN", ...): marked where it was
 };
+// Lines of a file the student's code wrote, for a failure about its text (lines_case).
+struct Listing {
+  std::string file_name;
+  std::vector<std::pair<int, std::string>> lines;  // (line number, text), in order; number 0: a gap
+  std::vector<int> marked;                          // the lines the message is about
+};
 struct FailingCase {
   // "step": a call of a step function; "positions": the discs at one moment against where
-  // something else puts them (the movie); "state": a state and nothing else (mean_energy).
+  // something else puts them (the movie); "state": a state and nothing else (mean_energy);
+  // "lines": a file's lines (the movie's SVG when its text is what is wrong), no table.
   std::string kind = "step";
   std::string heading;  // "propagate call 3 of 40 in this test: the first where ..."
   Board board;          // the state drawn, circles at their places with their velocities
   Account expected, yours;
   Outcome expected_outcome, your_outcome;  // as the metadata records them
   std::string key;  // what the drawing shows, for the legend ("" for a step's)
+  Listing listing;  // for "lines"
 };
 
 // For a test without steps: a function that draws its case when it fails (nullopt: nothing to
@@ -118,6 +126,10 @@ FailingCase step_case(const Board& board, const Outcome& expected, const Outcome
 // The case of a test on a state that does not evolve (such as mean_energy's): the circles with
 // their velocities (and gravity), no event. With table_radius 0, a table that holds them all.
 FailingCase state_case(Board board, std::string heading);
+
+// The case of a failure about a file's text: its lines around the `marked` ones (numbered from
+// 1; none: the file's first lines), the marked ones highlighted.
+FailingCase lines_case(std::string_view file_text, std::string file_name, std::vector<int> marked, std::string heading);
 
 // "circles 0 and 1 collide after time 4", "circle 2 hits walls[1] after time 3", ...
 std::string describe_outcome(const Outcome& outcome, int circles, int walls);

@@ -2,6 +2,7 @@
 // test is drawn, that the drawing shows that step (read back with the suites' SVG reader), that a
 // test's old picture goes when it starts, and that nothing is drawn when pictures are off.
 // Label "support": ctest --preset release -L support
+#include "billiard/table_svg.hpp"
 #include "support/failure_pictures.hpp"
 #include "support/fixtures.hpp"
 #include "support/oracle.hpp"
@@ -10,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdlib>
@@ -176,6 +178,31 @@ TEST_F(Pictures, WithoutADifferenceTheLastStepIsDrawn) {
   explain("something the event does not show", "something else", "a hint");
   const std::string svg = text_of(file());
   EXPECT_NE(svg.find("propagate call 3 of 3 in this test, the last before the failure"), std::string::npos);
+}
+
+TEST_F(Pictures, AFailureAboutAFileShowsItsLinesNotATable) {
+  // A file of 30 lines whose line 15 is what the message is about, 500 characters long: the
+  // picture shows lines 11 to 19 numbered, line 15 on the marked ground and cut after three rows
+  // with what is left said, gaps before and after, and the message; no table.
+  std::string file_text;
+  for (int line = 1; line <= 30; ++line) {
+    file_text += line == 15 ? "<animate keyTimes=\"" + std::string(500, '7') + "\"/>\n" : text("<line ", line, "/>\n");
+  }
+  set_case_source([file_text] { return lines_case(file_text, "movie.svg", {15}, "The animation a browser cannot play"); });
+  const std::string message = explain("keyTimes from 0 to 1", "line 15: keyTimes go from 0 to 0.5", "a hint");
+  ASSERT_NE(message.find("Picture: " + file().string()), std::string::npos) << message;
+  const std::string svg = text_of(file());
+  for (int line = 1; line <= 30; ++line) {
+    const bool shown = svg.find(TableSvg::escaped(text("<line ", line, "/>"))) != std::string::npos;
+    if (line != 15) EXPECT_EQ(shown, line >= 11 && line <= 19) << line;
+  }
+  EXPECT_NE(svg.find("class=\"marked\""), std::string::npos);
+  EXPECT_NE(svg.find(std::string(110, '7')), std::string::npos);  // a whole row of the long line
+  EXPECT_NE(svg.find("more characters on this line"), std::string::npos);
+  EXPECT_EQ(std::count(svg.begin(), svg.end(), '7') < 500, true);  // not all of it
+  EXPECT_NE(svg.find(">   ...<"), std::string::npos);  // the gaps
+  EXPECT_NE(svg.find("line 15: keyTimes go from 0 to 0.5"), std::string::npos);  // the message
+  EXPECT_EQ(svg.find("<circle"), std::string::npos);
 }
 
 TEST_F(Pictures, ATestWithoutStepsDrawsNothing) {

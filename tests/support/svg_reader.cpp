@@ -638,7 +638,22 @@ SvgDocument parse_svg(std::string_view text) {
   check_encoding(text, lines);
   const Xml xml(text);
   if (!xml.result) refuse_malformed(text, lines, xml);
-  return read_circles(check_well_formed(text, lines, xml), lines);
+  SvgDocument document = read_circles(check_well_formed(text, lines, xml), lines);
+  document.text = std::string(text);
+  return document;
+}
+
+int SvgError::line() const {
+  const std::string_view message = what();
+  for (std::size_t at = message.find("line "); at != std::string_view::npos; at = message.find("line ", at + 1)) {
+    if (at != 0 && (at < 2 || message.substr(at - 2, 2) != ", ")) continue;  // "line N:" starts it or a clause
+    std::size_t end = at + 5;
+    while (end < message.size() && message[end] >= '0' && message[end] <= '9') ++end;
+    if (end > at + 5 && end <= at + 14 && end < message.size() && message[end] == ':') {
+      return std::stoi(std::string(message.substr(at + 5, end - at - 5)));
+    }
+  }
+  return 0;
 }
 
 SvgDocument read_svg(const std::filesystem::path& file) {

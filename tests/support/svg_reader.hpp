@@ -33,6 +33,8 @@ namespace billiard::testing {
 class SvgError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+  // The line of the file the problem is on (the message's "line N:"), or 0 when it names none.
+  int line() const;
 };
 
 // An affine map x' = a x + c y + e, y' = b x + d y + f (SVG's matrix(a b c d e f)).
@@ -92,6 +94,7 @@ struct SvgDocument {
   std::string root_name;                              // local name of the root element ("svg")
   std::map<std::string, std::string> root_attributes;  // e.g. xmlns, width, viewBox
   std::vector<SvgCircle> circles;                     // every <circle>, in document order
+  std::string text;                                   // the file as read, for showing its lines
 
   // The circles a browser draws (not inside <defs>, <clipPath>, ...).
   std::vector<const SvgCircle*> rendered_circles() const;

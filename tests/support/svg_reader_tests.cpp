@@ -40,6 +40,15 @@ void expect_refused(std::string_view text, int line, std::string_view words) {
   const std::string prefix = "line " + std::to_string(line) + ": ";
   EXPECT_EQ(message.substr(0, prefix.size()), prefix) << "message: " << message;
   EXPECT_NE(message.find(words), std::string::npos) << "expected \"" << words << "\" in: " << message;
+  EXPECT_EQ(SvgError(message).line(), line) << "message: " << message;  // the picture shows that line
+}
+
+TEST(SvgErrorLine, IsTheLineTheMessageNamesOrNone) {
+  EXPECT_EQ(SvgError("movie.svg, line 7: <animate attributeName=\"cy\">: keyTimes must start at 0").line(), 7);
+  EXPECT_EQ(SvgError("line 12: tag <circle> is not closed").line(), 12);
+  EXPECT_EQ(SvgError("the file movie.svg is empty: nothing was written into it").line(), 0);
+  EXPECT_EQ(SvgError("an inline 3: not a place").line(), 0);
+  EXPECT_EQ(SvgError("line 99999999999999999999: too far").line(), 0);
 }
 
 void expect_circle(const SvgCircle& circle, double x, double y, double radius, int line) {

@@ -43,6 +43,10 @@ class TableSvg {
   // Text whose baseline starts at `at`; `size` in table units; escaped for XML.
   void text(const Vector& at, std::string_view text, double size, std::string_view attributes = "");
 
+  // Sizes the picture to where it is shown (a browser's window, an <img>): the whole of it, scaled
+  // to fit whatever that place's shape, instead of `width` pixels wide.
+  void fit_window() { fit_window_ = true; }
+
   // The picture so far, closed: a whole SVG document.
   std::string str() const;
   // Writes str() to `file`; throws std::runtime_error naming the file if that fails.
@@ -61,6 +65,7 @@ class TableSvg {
  private:
   double table_radius_, corner_, bottom_;
   int width_;
+  bool fit_window_ = false;
   std::ostringstream body_;
 };
 

@@ -72,9 +72,9 @@ std::string TableSvg::str() const {
   svg.precision(10);
   const double size = -2 * corner_, height = bottom_ - corner_;
   svg << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-      << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width_ << "\" height=\""
-      << std::lround(width_ * height / size) << "\" viewBox=\"" << corner_ << ' ' << corner_ << ' ' << size << ' '
-      << height << "\">\n"
+      << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << (fit_window_ ? "100%" : std::to_string(width_))
+      << "\" height=\"" << (fit_window_ ? "100%" : std::to_string(std::lround(width_ * height / size)))
+      << "\" viewBox=\"" << corner_ << ' ' << corner_ << ' ' << size << ' ' << height << "\">\n"
       << body_.str() << "</svg>\n";
   return svg.str();
 }

@@ -27,3 +27,24 @@ def colour_counts(picture):
 def rgb(hex_colour):
     """(r, g, b) of "#rrggbb"."""
     return tuple(int(hex_colour[k:k + 2], 16) for k in (1, 3, 5))
+
+
+def colour_box(picture, hex_colour):
+    """(left, top, right, bottom) pixel bounds of a colour in a PNG, or None where it is absent."""
+    from PIL import Image
+    wanted = rgb(hex_colour)
+    with Image.open(picture) as image:
+        pixels = image.convert("RGB")
+        mask = Image.new("L", pixels.size)
+        mask.putdata([255 if pixel == wanted else 0 for pixel in pixels.getdata()])
+    return mask.getbbox()
+
+
+def blank_rows(picture, share):
+    """Whether the bottom `share` of a PNG's rows is all white (nothing cut off there)."""
+    from PIL import Image
+    with Image.open(picture) as image:
+        rgb_image = image.convert("RGB")
+        width, height = rgb_image.size
+        bottom = rgb_image.crop((0, height - max(1, int(share * height)), width, height))
+        return all(colour == (255, 255, 255) for _, colour in bottom.getcolors(maxcolors=1 << 22))

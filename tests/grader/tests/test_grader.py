@@ -6,6 +6,7 @@ time through a resource lock), so each grading run rebuilds only what changed.
     /usr/bin/python3 tests/grader/tests/test_grader.py BUILD_FOLDER [unittest arguments]
 """
 
+import fcntl
 import html
 import json
 import math
@@ -199,6 +200,8 @@ def picture_problems(picture, message):
     def ghosts(kind, i):
         return [place(c) for c in marked(kind) if c["attributes"].get("data-circle") == str(i)]
 
+    if re.search(r"\bline \d+:", message) and case["kind"] != "lines":
+        problems.append(f"{name}: the message is about a line of the file, the picture shows a {case['kind']}")
     if case["kind"] == "step":
         expected, yours = case["expected"], case["yours"]
         if not expected["none"]:
@@ -225,7 +228,19 @@ def picture_problems(picture, message):
         placed = 0 <= mine < min(len(after), len(case["coordinates"])) and None not in after[mine]
         if not yours["error"] and placed and not ghosts("yours", mine):
             problems.append(f"{name}: the circle {mine} of the student's event is not marked")
+    elif case["kind"] == "lines":  # a file's lines: the line the message names is shown and marked
+        named = re.search(r"\bline (\d+):", message)
+        if named and int(named[1]) not in case["marked_lines"]:
+            problems.append(f"{name}: the message is about line {named[1]}, the picture marks {case['marked_lines']}")
+        numbers = {element.text.strip() for element in root.iter(f"{svg}text") if (element.text or "").strip().isdigit()}
+        missing = [line for line in case["marked_lines"] if str(line) not in numbers]
+        if missing:
+            problems.append(f"{name}: the marked lines {missing} are not shown")
     elif case["kind"] == "positions":
+        # The moment drawn is the one the message reports.
+        moment = re.search(r"\): (.*?), i\.e\. at fraction", message)
+        if moment and moment[1] not in case["heading"]:
+            problems.append(f"{name}: the message reports {moment[1]!r}, the picture shows {case['heading']!r}")
         elsewhere = [c for c in marked("yours") if "data-circle" in c["attributes"]]
         if not elsewhere:
             problems.append(f"{name}: no disc is marked where the movie shows it")
@@ -487,6 +502,19 @@ class GradesKnownSubmissions(unittest.TestCase):
                                  ("#e65100", "the student's event")]:
                 self.assertGreater(counts.get(browser.rgb(colour), 0), 50 if colour != "#f1f8e9" else 20000,
                                    f"{what} is not drawn on the page")
+            # A picture opened alone in a window smaller than it, of another shape: all of it in view,
+            # the table whole and the legend's last line above a white margin at the bottom.
+            alone = next((results / "pictures").glob("*.svg"))
+            for width, height in [(600, 600), (1100, 500), (400, 900)]:
+                page = alone.with_name(f"window-{width}x{height}.svg")
+                shutil.copyfile(alone, page)
+                picture, chromium = browser.screenshot(page, width=width, height=height)
+                self.assertIsNotNone(picture, chromium[-2000:])
+                box = browser.colour_box(picture, "#f1f8e9")
+                self.assertIsNotNone(box, f"{width}x{height}: no table drawn")
+                self.assertTrue(box[0] > 0 and box[1] > 0 and box[2] < width - 1 and box[3] < height - 1,
+                                f"{width}x{height}: the table is cut at the window's edge: {box}")
+                self.assertTrue(browser.blank_rows(picture, 0.02), f"{width}x{height}: the legend is cut at the bottom")
         finally:
             shutil.rmtree(submission)
             shutil.rmtree(results)
@@ -535,6 +563,37 @@ Velocities init_velocities(int, const Coordinates&, Rng&) {{
         self.assertNotIn("reference solution", feedback)
         for path, mode in modes.items():
             self.assertEqual(path.stat().st_mode, mode, f"the permissions of {path} are restored")
+
+    def test_a_shared_build_never_changes_under_a_grading(self):
+        """Gradings may share a build folder (the class grader's workers on a machine). One that
+        builds there waits until no other grading uses it, and one given --prebuilt grades from
+        it without building while another builds, never with it half-built."""
+        submission = REPO / "solutions"
+        grade(submission, "--task", "init_billiard")  # built and ready
+        lock_path = BUILD.parent / f"{BUILD.name}.lock"
+        command = ["/usr/bin/python3", str(GRADER / "grade.py"), "--submission", str(submission), "--build", str(BUILD),
+                   "--task", "init_billiard"]
+        started_lines = ["building the grader's own code", "grading with the grader built in"]
+        for held, options, waits_to in [(fcntl.LOCK_SH, [], "build"), (fcntl.LOCK_EX, ["--prebuilt"], "grade")]:
+            results = Path(tempfile.mkdtemp(prefix="grader-results-"))
+            log = results.with_suffix(".log")
+            with open(lock_path, "a") as lock, open(log, "w") as output_file:
+                fcntl.flock(lock, held)  # as a grading that uses the folder, or one that builds it
+                grading = subprocess.Popen([*command, *options, "--results", str(results)], stdout=output_file,
+                                           stderr=subprocess.STDOUT, text=True)
+                time.sleep(3)
+                so_far = log.read_text()
+                still_ready = (BUILD / "grader-ready.json").is_file()
+            grading.wait(timeout=600)
+            output = log.read_text()
+            shutil.rmtree(results, ignore_errors=True)
+            log.unlink()
+            self.assertFalse([line for line in started_lines if line in so_far],
+                             f"a grading did not wait to {waits_to}:\n{so_far[-3000:]}")
+            self.assertTrue(still_ready, f"a grading waiting to {waits_to} took the build's ready mark")
+            self.assertEqual(grading.returncode, 0, output[-3000:])
+        self.assertIn("grade: grading with the grader built in", output)  # the last, --prebuilt: ready, not built
+        self.assertNotIn("building the grader's own code", output)
 
 
 class Mutants(unittest.TestCase):
