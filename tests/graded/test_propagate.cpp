@@ -83,9 +83,14 @@ bool is_wall(const Collision& c, int i) { return c.circle == i && c.other == kWa
 void expect_row(const Eigen::Matrix<double, Eigen::Dynamic, 2>& rows, int i, double x, double y, double tolerance,
                 const std::string& what, const std::string& hint) {
   const double error = std::hypot(rows(i, 0) - x, rows(i, 1) - y);
-  EXPECT_LE(error, tolerance) << explain(text(what, " to be (", x, ", ", y, ") (within ", tolerance, ")"),
-                                         text("it is ", row(rows, i)), hint);
+  const bool finite = std::isfinite(rows(i, 0)) && std::isfinite(rows(i, 1));
+  EXPECT_LE(error, tolerance) << explain(
+      text(what, " to be (", x, ", ", y, ") (within ", tolerance, ")"), text("it is ", row(rows, i)),
+      finite ? hint
+             : text("a value that is NaN (not a number) or infinite comes from a division by zero (a length that is "
+                    "zero at the contact) or the square root of a negative number; ", hint));
 }
+
 
 void expect_time(const Collision& got, double expected, double tolerance, const std::string& situation,
                  const std::string& hint) {
@@ -117,6 +122,20 @@ const char* const kHintRecollision =
     "a pair that has just collided is touching (c ~ 0) but moving apart (b = dr.dv > 0); only approaching pairs "
     "(b < 0) can collide. Do not add a small epsilon to the time instead; check the sign of b.";
 
+// A circle's velocity after a pair collision, with a hint about the sign when the code moved the
+// exchange the wrong way (v_i' = v_i + ((v_i - v_j).n) n: it lands as far beyond v_i as the
+// expected velocity lies before it).
+void expect_velocity_after_pair(const Velocities& v, int i, const Eigen::RowVector2d& before,
+                                const Eigen::RowVector2d& expected, const std::string& what) {
+  const Eigen::RowVector2d wrong_way = 2 * before - expected;
+  const bool sign = std::hypot(v(i, 0) - wrong_way(0), v(i, 1) - wrong_way(1)) <= kTol;
+  expect_row(v, i, expected(0), expected(1), kTol, what,
+             sign ? text("the exchange has the wrong sign: circle ", i, " gained ((v_i - v_j).n) n where it should ",
+                         "lose it (or the other way round). With n = (r_j - r_i) / |r_j - r_i|, v_i' = v_i - ",
+                         "((v_i - v_j).n) n and v_j' = v_j + ((v_i - v_j).n) n.")
+                  : std::string(kHintSwap));
+}
+
 // ---------------------------------------------------------------------------------------------
 // 1. Hand-computed cases.
 
@@ -145,8 +164,8 @@ GRADED_TEST(Propagate, HeadOnCollisionAtTimeFour, 2, visible) {
   expect_time(got, 4, kTol, "circles at (-5, 0) and (5, 0) moving towards each other at speed 1", kHintPairTime);
   expect_row(t.c, 0, -1, 0, kTol, "circle 0's position at the collision", kHintMoveAll);
   expect_row(t.c, 1, 1, 0, kTol, "circle 1's position at the collision", kHintMoveAll);
-  expect_row(t.v, 0, -1, 0, kTol, "circle 0's velocity after the head-on collision", kHintSwap);
-  expect_row(t.v, 1, 1, 0, kTol, "circle 1's velocity after the head-on collision", kHintSwap);
+  expect_velocity_after_pair(t.v, 0, {1, 0}, {-1, 0}, "circle 0's velocity after the head-on collision");
+  expect_velocity_after_pair(t.v, 1, {-1, 0}, {1, 0}, "circle 1's velocity after the head-on collision");
 }
 
 GRADED_TEST(Propagate, ObliqueCollisionExchangesOnlyNormalComponents, 3, visible) {
@@ -162,8 +181,8 @@ GRADED_TEST(Propagate, ObliqueCollisionExchangesOnlyNormalComponents, 3, visible
   ASSERT_TRUE(is_pair(got, 0, 1)) << explain("circles 0 and 1 to collide", text("returned ", describe_collision(got)),
                                              kHintPairTime);
   expect_time(got, 4 - s3, kTol, "an off-centre hit of a resting circle", kHintPairTime);
-  expect_row(t.v, 0, 0.25, s3 / 4, kTol, "the moving circle's velocity after an off-centre hit", kHintSwap);
-  expect_row(t.v, 1, 0.75, -s3 / 4, kTol, "the hit circle's velocity after an off-centre hit", kHintSwap);
+  expect_velocity_after_pair(t.v, 0, {1, 0}, {0.25, s3 / 4}, "the moving circle's velocity after an off-centre hit");
+  expect_velocity_after_pair(t.v, 1, {0, 0}, {0.75, -s3 / 4}, "the hit circle's velocity after an off-centre hit");
 }
 
 GRADED_TEST(Propagate, ObliqueWallHitReflectsOnlyNormalComponent, 3, visible) {

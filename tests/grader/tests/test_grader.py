@@ -226,7 +226,10 @@ def picture_problems(picture, message):
                     problems.append(f"{name}: the expected contact with walls[{-2 - other}] is not on it")
         mine, after = yours["circle"], yours["coordinates"]
         placed = 0 <= mine < min(len(after), len(case["coordinates"])) and None not in after[mine]
-        if not yours["error"] and placed and not ghosts("yours", mine):
+        # A circle whose new velocity is not a number (or infinite) is crossed out where it was.
+        crossed = any(element.get("data-circle") == str(mine) and "not-finite" in element.get("class", "").split()
+                      for element in root.iter(f"{svg}line"))
+        if not yours["error"] and placed and not ghosts("yours", mine) and not crossed:
             problems.append(f"{name}: the circle {mine} of the student's event is not marked")
     elif case["kind"] == "lines":  # a file's lines: the line the message names is shown and marked
         named = re.search(r"\bline (\d+):", message)
@@ -519,6 +522,81 @@ class GradesKnownSubmissions(unittest.TestCase):
             shutil.rmtree(submission)
             shutil.rmtree(results)
 
+    def test_pictures_show_each_kind_of_mistake(self):
+        """Three kinds of mistake as the student sees them, drawn by headless chromium in a square
+        window: a velocity that is not a number, crossed out and said; a pair's exchange of the
+        wrong sign, whose arrows differ in length on the screen; a movie file a browser cannot
+        play, shown as its lines with the one at fault marked, and no table. Each picture whole in
+        the window, legend included."""
+        if not {"propagate", "movie"} <= set(TASKS):
+            self.skipTest("this course has no propagate and movie tasks")
+        mutants = REPO / "tests" / "mutants"
+        gradings = [{"propagate": mutants / "propagate" / "normal_divided_by_gap_to_wall.mutant",
+                     "movie": mutants / "movie" / "key_times_not_cumulative.mutant"},
+                    {"propagate": mutants / "propagate" / "exchange_with_wrong_sign.mutant"}]
+        drawn = {}
+        work = Path(tempfile.mkdtemp(prefix="pictures-"))
+        try:
+            for number, replacements in enumerate(gradings):
+                submission = submission_from_solutions(**replacements)
+                results = work / f"results-{number}"
+                try:
+                    grade(submission, *[word for task in replacements for word in ("--task", task)], results=results)
+                finally:
+                    shutil.rmtree(submission)
+                for picture in (results / "pictures").glob("*.svg"):
+                    drawn[picture.stem] = picture
+            width = height = 800
+            shots = {}
+            for test in ["Propagate.CircleFromCentreHitsWallAtTimeNine", "Propagate.HeadOnCollisionAtTimeFour",
+                         "Movie.AnimationShowsTheDiscsAtEveryCollision"]:
+                self.assertIn(test, drawn, f"{test} drew no picture")
+                shots[test], chromium = browser.screenshot(drawn[test], width=width, height=height)
+                self.assertIsNotNone(shots[test], chromium[-2000:])
+                self.assertTrue(browser.blank_rows(shots[test], 0.01), f"{test}: the legend is cut at the bottom")
+            orange, blue, table = browser.rgb("#e65100"), browser.rgb("#1565c0"), browser.rgb("#f1f8e9")
+
+            nan = drawn["Propagate.CircleFromCentreHitsWallAtTimeNine"].read_text()
+            self.assertIn('class="yours not-finite" data-circle="0"', nan)
+            self.assertIn(">NaN<", nan)
+            self.assertIn("velocity is NaN (not a number)", nan)  # the legend says it
+            self.assertGreater(browser.colour_counts(shots["Propagate.CircleFromCentreHitsWallAtTimeNine"]).get(orange, 0),
+                               200, "the crossed-out circle is not on the screen")
+
+            sign = drawn["Propagate.HeadOnCollisionAtTimeFour"]
+            root = ET.parse(sign).getroot()
+            svg = "{http://www.w3.org/2000/svg}"
+            x, y, box_width, box_height = map(float, root.get("viewBox").split())
+            pixels_per_unit = min(width / box_width, height / box_height)
+            lengths = {"expected": [], "yours": []}
+            start = None
+            for element in root.iter():
+                classes = element.get("class", "").split()
+                if "velocity" not in classes or not ({"expected", "yours"} & set(classes)):
+                    continue
+                if element.tag == f"{svg}line":
+                    start = (float(element.get("x1")), float(element.get("y1")))
+                elif element.tag == f"{svg}polygon" and start:
+                    tip = tuple(map(float, element.get("points").split()[0].split(",")))
+                    lengths["expected" if "expected" in classes else "yours"].append(
+                        math.dist(start, tip) * pixels_per_unit)
+                    start = None
+            self.assertTrue(lengths["expected"] and lengths["yours"], lengths)
+            self.assertGreater(min(lengths["yours"]) - max(lengths["expected"]), 20,
+                               f"speeds 3 and 1 drawn with arrows of {lengths} pixels")
+            counts = browser.colour_counts(shots["Propagate.HeadOnCollisionAtTimeFour"])
+            self.assertGreater(counts.get(orange, 0), 50)
+            self.assertGreater(counts.get(blue, 0), 50)
+
+            movie = shots["Movie.AnimationShowsTheDiscsAtEveryCollision"]
+            counts = browser.colour_counts(movie)
+            self.assertEqual(counts.get(table, 0), 0, "a file that a browser cannot play is drawn as a table")
+            self.assertGreater(counts.get(browser.rgb("#ffe0b2"), 0), 1000, "the line at fault is not marked")
+            text = drawn["Movie.AnimationShowsTheDiscsAtEveryCollision"].read_text()
+            self.assertIn("keyTimes", text)
+        finally:
+            shutil.rmtree(work)
+
     @unittest.skipUnless(os.geteuid() == 0, "needs root to run the submission as another user")
     def test_including_the_reference_solution_gains_nothing(self):
         cheat = Path(tempfile.mkdtemp(prefix="cheat-"))
@@ -623,6 +701,7 @@ class Mutants(unittest.TestCase):
                          if mutant.parent.name in tasks)
         self.assertGreaterEqual(len(mutants), at_least)
         problems = []
+        later_hints = []
         with_lead = {task: 0 for task in tasks}
         pictures = 0
         for mutant in mutants:
@@ -649,6 +728,13 @@ class Mutants(unittest.TestCase):
                         problems.append(f"{task}/{mutant.name}: the first failing test "
                                         f"{first['name'] if first else '(none)'} leads with \"{hint}\", which does not "
                                         f"name the bug (\"{lead}\")")
+                    # The later failing tests' hints: which name the same bug (said, not yet required).
+                    later = [test for test in failing if test is not first and test["visibility"] != "hidden"]
+                    elsewhere = [test["name"].split(": ", 1)[1] for test in later
+                                 if lead.lower() not in next((line for line in shown_text(test).splitlines()
+                                                              if line.startswith("Hint:")), "").lower()]
+                    later_hints.append(f"{task}/{mutant.name}: {len(later) - len(elsewhere)} of {len(later)} later "
+                                       "hints name the bug" + (f"; elsewhere: {', '.join(elsewhere)}" if elsewhere else ""))
                     if first and task in PICTURE_TASKS:
                         drawn = results / "pictures" / f"{first['name'].split(': ', 1)[1]}.svg"
                         if not drawn.is_file() or first.get("output_format") != "html":
@@ -672,6 +758,7 @@ class Mutants(unittest.TestCase):
                     problems.append(f"{task}/{mutant.name} costs points in {other}")
         print("mutants with a lead hint: " + ", ".join(f"{task} {count}" for task, count in with_lead.items())
               + f"; {pictures} pictures of their first failures read back", flush=True)
+        print("\n".join(later_hints), flush=True)
         problems += [f"{task}: only {count} mutants check the lead hint (5 wanted)"
                      for task, count in with_lead.items() if count < 5]
         self.assertEqual(problems, [], "\n".join(problems))
