@@ -104,6 +104,7 @@ py::array_t<double> vector(const Eigen::VectorXd& v) {
 
 PYBIND11_MODULE(_billiard, m) {
   m.doc() = "Compiled core of the billiard package: the course functions and the event-driven Simulation.";
+  m.attr("__version__") = BILLIARD_VERSION;  // the project's, from CMakeLists.txt
   py::register_exception_translator([](std::exception_ptr error) {
     try {
       if (error) std::rethrow_exception(error);

@@ -73,7 +73,8 @@ STUDENT_EXCLUDED = [
     ".ci/",                           # the instructors' CI (it expects the reference solutions)
     ".github/workflows/ci.yml",       # ... and the same CI on GitHub
     "lib/README.md",                  # the library's guide (students read tasks/README.md)
-    "tests/python/test_readme_examples.py",  # ... and the test that runs its examples
+    "tests/python/test_readme_examples.py",  # ... and the tests that run its examples
+    "tests/python/test_install.py",
     "tests/grader/README.md",         # the instructors' guide
     ".github/CONTRIBUTING.md",        # the contributors' guide
     "tasks/README.md",                # the students' guide: it becomes the release's README.md

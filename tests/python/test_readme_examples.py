@@ -6,8 +6,11 @@ earlier one defined). A block that needs a Dask scheduler's address is only comp
 block, each example's own result is checked, so that an example that runs but says something
 else than the guide claims fails too.
 """
+import os
 import pathlib
 import re
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -73,3 +76,19 @@ def test_the_sweep_example_measures_a_pressure_above_the_ideal_gas():
     z = namespace["pressure"](0.3, 200, 1)["Z"]
     # Henderson's equation of state at area fraction 0.3: Z = (1 + eta^2 / 8) / (1 - eta)^2 = 2.10.
     assert z == pytest.approx((1 + 0.3**2 / 8) / (1 - 0.3) ** 2, rel=0.1)
+
+
+def test_the_sweep_example_runs_as_a_script(tmp_path):
+    """The sweep example as the guide prints it, saved as a script and run by Python (its workers
+    import the script), at a smaller scale: it prints a line per area fraction, without pandas."""
+    block = next(b for b in python_blocks() if "def pressure(" in b)
+    smaller = block.replace('"n": [1000]', '"n": [100]').replace("seeds=10", "seeds=2")
+    assert smaller != block, "the example's scale is not where this test expects it"
+    script = tmp_path / "pressure_sweep.py"
+    script.write_text(smaller)
+    done = subprocess.run([sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                          timeout=300, cwd=tmp_path, env=dict(os.environ))
+    assert done.returncode == 0, done.stdout[-3000:]
+    values = {float(eta): float(z) for eta, z in re.findall(r"^eta ([0-9.]+): Z = ([0-9.]+) \+- ", done.stdout, re.M)}
+    assert sorted(values) == [0.1, 0.3, 0.5], done.stdout[-3000:]
+    assert values[0.1] < values[0.3] < values[0.5]  # the pressure rises with the density

@@ -55,6 +55,7 @@ from ._billiard import (  # noqa: F401  (re-exported)
     visualize_table,
 )
 from . import _billiard
+__version__ = _billiard.__version__  # the project's version (CMakeLists.txt)
 from ._billiard import stages  # noqa: F401  (the extension stages this build has: stages.available)
 from ._sweep import local_client, sweep  # noqa: F401  (re-exported; import Dask only when called)
 
