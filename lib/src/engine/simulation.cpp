@@ -1,4 +1,5 @@
-// The public Simulation: input checks at the API boundary, setup, state accessors and replay.
+// The public Simulation: input checks at the API boundary, setup and state accessors (the
+// replay of the event log is in replay.cpp).
 // The event loop itself is in engine.cpp.
 #include "billiard/engine/simulation.hpp"
 

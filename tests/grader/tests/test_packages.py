@@ -440,6 +440,22 @@ class Guides(unittest.TestCase):
         self.assertIn(f"least {similarity.SHARE_FLAGGED} % of one file's own code is found in the other, in runs of "
                       f"{similarity.RUN_TOKENS} tokens or more that add up to {similarity.MATCH_FLAGGED} tokens", guide)
 
+    def test_layout_table_names_every_folder_and_header(self):
+        """The README sends readers to the contributors' layout table for the whole layout: every
+        folder of the repository (to three levels, or its parent: a mutant's task folder is under
+        `tests/mutants/`) and every shared header of lib/include/billiard/ is named there."""
+        table = "\n".join(line for line in (REPO / ".github" / "CONTRIBUTING.md").read_text().splitlines()
+                          if line.startswith("| `"))
+        tracked = subprocess.run(["git", "ls-files"], cwd=REPO, stdout=subprocess.PIPE, text=True).stdout.split()
+        if not tracked:
+            self.skipTest("not a git checkout")
+        folders = {str(Path(path).parent) for path in tracked if 1 <= len(Path(path).parent.parts) <= 3}
+        missing = [folder for folder in sorted(folders - {"lib", "tests"})
+                   if f"`{folder}/" not in table and f"`{Path(folder).parent}/`" not in table]
+        missing += [header.name for header in (REPO / "lib" / "include" / "billiard").glob("*.hpp")
+                    if f"`{header.name}`" not in table]
+        self.assertEqual(missing, [], "not in the layout table of .github/CONTRIBUTING.md")
+
     def test_front_page_picture_is_the_commands_movie(self):
         """The README's picture is the movie `billiard 10 1 10` draws with the reference solutions
         (numbers compared to 6 significant digits: another compiler may round the last ones)."""

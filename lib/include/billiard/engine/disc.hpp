@@ -38,7 +38,7 @@ struct State {
 enum class EventKind : int { DiscDisc, DiscWall, Sleep, Wake };
 
 // One recorded event (the event log). `other` is the second disc; for a wall hit it is kWall
-// and `wall` is the wall's index (see Simulation::walls()); for Sleep and Wake it is kNoOther.
+// and `wall` is the wall's index (see Container::walls()); for Sleep and Wake it is kNoOther.
 // wall = kNoWall unless a wall was hit. Positions and velocities are those just after the event
 // (at `time`); the other_* fields are zero unless `other` is a disc.
 inline constexpr int kNoWall = -1;
