@@ -80,15 +80,18 @@ bool is_pair(const Collision& c, int i, int j) {
 bool is_wall(const Collision& c, int i) { return c.circle == i && c.other == kWall; }
 
 // Expects row i of `rows` to be (x, y) within `tolerance`.
+// The hint for a value that is NaN or infinite: where such values come from, then `hint`.
+std::string not_finite_hint(const std::string& hint) {
+  return text("a value that is NaN (not a number) or infinite comes from a division by zero (a length that is zero "
+              "at the contact) or the square root of a negative number; ", hint);
+}
+
 void expect_row(const Eigen::Matrix<double, Eigen::Dynamic, 2>& rows, int i, double x, double y, double tolerance,
                 const std::string& what, const std::string& hint) {
   const double error = std::hypot(rows(i, 0) - x, rows(i, 1) - y);
   const bool finite = std::isfinite(rows(i, 0)) && std::isfinite(rows(i, 1));
-  EXPECT_LE(error, tolerance) << explain(
-      text(what, " to be (", x, ", ", y, ") (within ", tolerance, ")"), text("it is ", row(rows, i)),
-      finite ? hint
-             : text("a value that is NaN (not a number) or infinite comes from a division by zero (a length that is "
-                    "zero at the contact) or the square root of a negative number; ", hint));
+  EXPECT_LE(error, tolerance) << explain(text(what, " to be (", x, ", ", y, ") (within ", tolerance, ")"),
+                                         text("it is ", row(rows, i)), finite ? hint : not_finite_hint(hint));
 }
 
 
@@ -122,18 +125,29 @@ const char* const kHintRecollision =
     "a pair that has just collided is touching (c ~ 0) but moving apart (b = dr.dv > 0); only approaching pairs "
     "(b < 0) can collide. Do not add a small epsilon to the time instead; check the sign of b.";
 
-// A circle's velocity after a pair collision, with a hint about the sign when the code moved the
-// exchange the wrong way (v_i' = v_i + ((v_i - v_j).n) n: it lands as far beyond v_i as the
-// expected velocity lies before it).
+// The hint for a circle's velocity after an event that differs from the expected one, about the
+// mistake the numbers show: a velocity that is not finite (a division by zero, the root of a
+// negative number); at a pair collision, the exchange moved the wrong way (v_i' = v_i +
+// ((v_i - v_j).n) n lands as far beyond v_i as the expected velocity lies before it); else the
+// formula of the event.
+std::string velocity_hint(const Eigen::RowVector2d& before, const Eigen::RowVector2d& expected,
+                          const Eigen::RowVector2d& got, bool at_wall) {
+  const std::string formula = at_wall ? kHintWallReflection : kHintSwap;
+  if (!got.allFinite()) return not_finite_hint(formula);
+  const Eigen::RowVector2d wrong_way = 2 * before - expected;
+  if (!at_wall && (got - wrong_way).norm() <= 1e-9 * (1 + before.norm() + expected.norm()) &&
+      (expected - before).norm() > 1e-9 * (1 + before.norm())) {
+    return "the exchange has the wrong sign: the circle gained ((v_i - v_j).n) n where it should lose it (or the "
+           "other way round). With n = (r_j - r_i) / |r_j - r_i|, v_i' = v_i - ((v_i - v_j).n) n and "
+           "v_j' = v_j + ((v_i - v_j).n) n.";
+  }
+  return formula;
+}
+
+// A circle's velocity after a pair collision, with the hint that follows from it.
 void expect_velocity_after_pair(const Velocities& v, int i, const Eigen::RowVector2d& before,
                                 const Eigen::RowVector2d& expected, const std::string& what) {
-  const Eigen::RowVector2d wrong_way = 2 * before - expected;
-  const bool sign = std::hypot(v(i, 0) - wrong_way(0), v(i, 1) - wrong_way(1)) <= kTol;
-  expect_row(v, i, expected(0), expected(1), kTol, what,
-             sign ? text("the exchange has the wrong sign: circle ", i, " gained ((v_i - v_j).n) n where it should ",
-                         "lose it (or the other way round). With n = (r_j - r_i) / |r_j - r_i|, v_i' = v_i - ",
-                         "((v_i - v_j).n) n and v_j' = v_j + ((v_i - v_j).n) n.")
-                  : std::string(kHintSwap));
+  expect_row(v, i, expected(0), expected(1), kTol, what, velocity_hint(before, expected, v.row(i), false));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -340,6 +354,49 @@ RandomSystem random_system(int k, bool crowded) {
 // R / (root of the sum of squared speeds): a time scale that collisions do not change.
 double time_scale(const Table& t) { return t.R / std::sqrt(t.v.squaredNorm()); }
 
+const char* const kHintEveryEvent =
+    "compute every circle's wall time and every pair's contact time (only approaching pairs, the first contact, "
+    "stable formulas) and return the smallest.";
+
+// The hint for a step that differs from the oracle's (compared from `before`, the student's step
+// left `after`): the formula of the part that differs, as the numbers show it.
+std::string step_hint(const billiard::testing::OracleComparison& comparison, const Table& before, const Table& after) {
+  using What = billiard::testing::StepDifference::What;
+  if (comparison.match < 0) return kHintEveryEvent;
+  const auto& match = comparison.event();
+  const int i = comparison.difference.circle;
+  switch (comparison.difference.what) {
+    case What::Time:
+      return match.other == kWall ? kHintWallTime : kHintPairTime;
+    case What::Position:
+      return kHintMoveAll;
+    case What::Velocity:
+      return i < 0 ? std::string(kHintMoveAll)
+                   : velocity_hint(before.v.row(i), match.velocities.row(i), after.v.row(i), match.other == kWall);
+    case What::None:
+      break;
+  }
+  return kHintEveryEvent;
+}
+
+// The hint of a test over many steps (a long run, a check of the input a step gets): that of the
+// test's first step that differs from the expected one, where the mistake began, else `fallback`.
+std::string departure_hint(const std::string& fallback) {
+  const auto departure = billiard::testing::first_departure();
+  if (!departure || !departure->got.error.empty()) return fallback;
+  const Table before{departure->board.table_radius, departure->board.circle_radius, departure->board.coordinates,
+                     departure->board.velocities};
+  const Table after{before.R, before.a, departure->got.coordinates, departure->got.velocities};
+  if (after.c.rows() != before.c.rows() || after.v.rows() != before.v.rows() || !(before.v.squaredNorm() > 0)) {
+    return fallback;
+  }
+  const auto comparison = billiard::testing::compare_with_oracle(before.R, before.a, before.c, before.v,
+                                                                 time_scale(before), departure->got.event, after.c,
+                                                                 after.v);
+  return text(step_hint(comparison, before, after), " (The first step that went wrong was call ", departure->call,
+              " of this test; its picture shows it.)");
+}
+
 // Calls propagate and turns an std::invalid_argument on a valid state into a test failure.
 bool checked_step(Table& t, Collision& got, const std::string& where) {
   try {
@@ -348,9 +405,9 @@ bool checked_step(Table& t, Collision& got, const std::string& where) {
   } catch (const std::invalid_argument& error) {
     ADD_FAILURE() << explain(text("propagate to accept a valid state and find its next collision (", where, ")"),
                              text("it threw std::invalid_argument: \"", error.what(), "\""),
-                             "after a collision the circles touch, and rounding may leave them overlapping or "
-                             "outside the wall by about 1e-15; input checks need a small tolerance, and the "
-                             "earliest event must still be found.");
+                             departure_hint("after a collision the circles touch, and rounding may leave them "
+                                            "overlapping or outside the wall by about 1e-15; input checks need a "
+                                            "small tolerance, and the earliest event must still be found."));
     return false;
   }
 }
@@ -707,9 +764,9 @@ GRADED_TEST(Propagate, LongRunConservesMeanSquaredVelocity, 3, after_due_date) {
           text("the mean squared velocity <v^2> to stay constant (relative drift below 1e-10) over ",
                kLongRunCollisions, " collisions of ", kLongRunCircles, " circles"),
           text("after collision ", e, " (", describe_collision(got), ") it drifted by ", drift, " relative"),
-          "elastic collisions conserve kinetic energy exactly: check the collision formulas (only the normal "
+          departure_hint("elastic collisions conserve kinetic energy exactly: check the collision formulas (only the normal "
           "components exchange; the wall reverses only the normal component), use the unit normal at the moment "
-          "of contact, and use double everywhere (no float).");
+          "of contact, and use double everywhere (no float)."));
       return;
     }
   }
@@ -730,9 +787,9 @@ GRADED_TEST(Propagate, LongRunConservesAngularMomentum, 3, after_due_date) {
           text("the angular momentum about the table centre, sum_i (x_i vy_i - y_i vx_i), to stay constant (change "
           "below 1e-9 of sum_i |r_i||v_i|) over ", kLongRunCollisions, " collisions"),
           text("after collision ", e, " (", describe_collision(got), ") it changed by ", change, " of that scale"),
-          "both kinds of collision conserve angular momentum about the centre: at the wall reflect only the "
+          departure_hint("both kinds of collision conserve angular momentum about the centre: at the wall reflect only the "
           "component along n = r / |r| at the point of contact, and between circles exchange only the components "
-          "along the line of centres.");
+          "along the line of centres."));
       return;
     }
   }
@@ -751,17 +808,17 @@ GRADED_TEST(Propagate, LongRunKeepsCirclesApartAndOnTable, 3, after_due_date) {
       ADD_FAILURE() << explain("no two circles to overlap (by more than 1e-9) at any collision",
                                text("after collision ", e, " (", describe_collision(got), ") circles ", i, " and ", j,
                                     " overlap by ", overlap),
-                               "a missed or too-late collision lets circles pass into each other: find the earliest "
+                               departure_hint("a missed or too-late collision lets circles pass into each other: find the earliest "
                                "event over all pairs, take the first contact time, and never skip an approaching "
-                               "touching pair (t = 0).");
+                               "touching pair (t = 0)."));
       return;
     }
     if (!(protrusion <= 1e-9)) {
       ADD_FAILURE() << explain("every circle to stay on the table (|r| <= R - a + 1e-9) at every collision",
                                text("after collision ", e, " (", describe_collision(got), ") circle ", w, " sticks out by ",
                                     protrusion),
-                               "a circle escapes when a wall hit is missed, e.g. a circle pushed onto the wall "
-                               "that moves outward must hit it at t = 0.");
+                               departure_hint("a circle escapes when a wall hit is missed, e.g. a circle pushed onto the wall "
+                               "that moves outward must hit it at t = 0."));
       return;
     }
   }
@@ -775,9 +832,9 @@ GRADED_TEST(Propagate, LongRunTimesAreFiniteAndNotNegative, 2, after_due_date) {
     if (!(std::isfinite(got.time) && got.time >= 0)) {
       ADD_FAILURE() << explain("every returned time to be finite and >= 0 (it is the time advanced)",
                                text("collision ", e, " returned ", describe_collision(got)),
-                               "take only non-negative roots, clamp tiny negative roots from rounding to 0, and "
+                               departure_hint("take only non-negative roots, clamp tiny negative roots from rounding to 0, and "
                                "skip events that never happen (infinite or NaN times) when looking for the "
-                               "earliest.");
+                               "earliest."));
       return;
     }
   }
@@ -807,9 +864,7 @@ bool matches_oracle(const Table& t, const std::string& where) {
     ADD_FAILURE() << explain(
         text("at ", where, ": the earliest event, ", describe_event(events.front().circle, events.front().other),
              " after time ", events.front().time, also),
-        text("returned ", describe_collision(got)),
-        "compute every circle's wall time and every pair's contact time (only approaching pairs, the first "
-        "contact, stable formulas) and return the smallest.");
+        text("returned ", describe_collision(got)), step_hint(comparison, t, mine));
     return false;
   }
   const auto& match = comparison.event();
@@ -819,8 +874,7 @@ bool matches_oracle(const Table& t, const std::string& where) {
       return true;
     case What::Time:
       ADD_FAILURE() << explain(text("at ", where, ": ", describe_event(match.circle, match.other), " after time ", match.time),
-                               text("returned ", describe_collision(got)),
-                               match.other == kWall ? kHintWallTime : kHintPairTime);
+                               text("returned ", describe_collision(got)), step_hint(comparison, t, mine));
       return false;
     case What::Position:
       if (i < 0) {
@@ -833,13 +887,13 @@ bool matches_oracle(const Table& t, const std::string& where) {
                                     describe_event(match.circle, match.other)),
                                text("it is at ", row(mine.c, i), " (started at ", row(t.c, i), ", velocity ",
                                     row(t.v, i), ")"),
-                               kHintMoveAll);
+                               step_hint(comparison, t, mine));
       return false;
     case What::Velocity:
       ADD_FAILURE() << explain(text("at ", where, ": circle ", i, " to have velocity ", row(match.velocities, i),
                                     " after ", describe_event(match.circle, match.other)),
                                text("its velocity is ", row(mine.v, i), " (before the step ", row(t.v, i), ")"),
-                               match.other == kWall ? kHintWallReflection : kHintSwap);
+                               step_hint(comparison, t, mine));
       return false;
   }
   return true;

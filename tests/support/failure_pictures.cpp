@@ -268,36 +268,37 @@ void draw_account(TableSvg& picture, const Board& board, const Account& account,
   }
 }
 
+// What the student's code did at recorded step k (its state after: the next step's board when
+// the record keeps only that).
+Outcome outcome_at(const TestRecord& r, std::size_t k) {
+  if (!r.steps[k].after_is_next_board) return r.steps[k].outcome;
+  const Board& next = k + 1 < r.steps.size() ? r.steps[k + 1].board : r.latest->board;
+  Outcome outcome = r.steps[k].outcome;
+  outcome.coordinates = next.coordinates;
+  outcome.velocities = next.velocities;
+  return outcome;
+}
+
+std::optional<Judgement> judged(const Board& board, const Outcome& got) {
+  try {
+    return registered().judge(board, got);
+  } catch (const std::exception&) {
+    return std::nullopt;  // the judge cannot step this state: it says nothing about the student's code
+  }
+}
+
 std::optional<FailingCase> case_of_steps() {
   TestRecord& r = record();
   const Registered& suite = registered();
   if (!suite.judge || (r.steps.empty() && !r.latest)) return std::nullopt;
-  const auto outcome_at = [&](std::size_t k) {
-    if (!r.steps[k].after_is_next_board) return r.steps[k].outcome;
-    const Board& next = k + 1 < r.steps.size() ? r.steps[k + 1].board : r.latest->board;
-    Outcome outcome = r.steps[k].outcome;
-    outcome.coordinates = next.coordinates;
-    outcome.velocities = next.velocities;
-    return outcome;
-  };
-  const auto judged = [&](const Board& board, const Outcome& got) -> std::optional<Judgement> {
-    try {
-      return suite.judge(board, got);
-    } catch (const std::exception&) {
-      return std::nullopt;  // the judge cannot step this state: it says nothing about the student's code
-    }
-  };
   const std::string calls = text(" of ", r.calls, " in this test");
-  for (std::size_t k = 0; k < r.steps.size(); ++k) {
-    const Outcome got = outcome_at(k);
-    const auto judgement = judged(r.steps[k].board, got);
-    if (judgement && !judgement->agrees) {
-      return step_case(r.steps[k].board, judgement->expected, got,
-                       text(suite.function, " call ", k + 1, calls, ": the first where your code differs from the expected step"));
-    }
+  if (const auto departure = first_departure()) {
+    return step_case(departure->board, departure->expected, departure->got,
+                     text(suite.function, " call ", departure->call, calls,
+                          ": the first where your code differs from the expected step"));
   }
   const RecordedStep& last = r.latest ? *r.latest : r.steps.back();
-  const Outcome got = r.latest ? r.latest->outcome : outcome_at(r.steps.size() - 1);
+  const Outcome got = r.latest ? r.latest->outcome : outcome_at(r, r.steps.size() - 1);
   const auto judgement = judged(last.board, got);
   if (!judgement) return std::nullopt;
   return step_case(last.board, judgement->expected, got,
@@ -324,6 +325,17 @@ class PictureListener : public ::testing::EmptyTestEventListener {
 };
 
 }  // namespace
+
+std::optional<Departure> first_departure() {
+  const TestRecord& r = record();
+  if (!registered().judge) return std::nullopt;
+  for (std::size_t k = 0; k < r.steps.size(); ++k) {
+    const Outcome got = outcome_at(r, k);
+    const auto judgement = judged(r.steps[k].board, got);
+    if (judgement && !judgement->agrees) return Departure{r.steps[k].board, got, judgement->expected, static_cast<int>(k) + 1};
+  }
+  return std::nullopt;
+}
 
 bool register_step_judge(std::string function, StepJudge judge) {
   registered() = Registered{std::move(function), std::move(judge)};

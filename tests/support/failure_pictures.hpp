@@ -76,6 +76,18 @@ using StepJudge = std::function<Judgement(const Board& board, const Outcome& got
 // for a static initialiser.
 bool register_step_judge(std::string function, StepJudge judge);
 
+// A recorded step of the running test that the suite's judge disagrees with: the board, what
+// the student's code did, the judge's expected outcome, and which call of the test it was (from 1).
+struct Departure {
+  Board board;
+  Outcome got;
+  Outcome expected;
+  int call = 0;
+};
+// The running test's first such step, if any: where a failure found after many steps began, for
+// its picture and its hint.
+std::optional<Departure> first_departure();
+
 // Calls `call` (the student's step function, which moves `coordinates` and `velocities`, the
 // state of `board`) and records the step for the running test. Returns what it returns;
 // rethrows what it throws (recorded as the outcome).
