@@ -194,7 +194,9 @@ TEST_F(Pictures, AFailureAboutAFileShowsItsLinesNotATable) {
   const std::string svg = text_of(file());
   for (int line = 1; line <= 30; ++line) {
     const bool shown = svg.find(TableSvg::escaped(text("<line ", line, "/>"))) != std::string::npos;
-    if (line != 15) EXPECT_EQ(shown, line >= 11 && line <= 19) << line;
+    if (line != 15) {
+      EXPECT_EQ(shown, line >= 11 && line <= 19) << line;
+    }
   }
   EXPECT_NE(svg.find("class=\"marked\""), std::string::npos);
   EXPECT_NE(svg.find(std::string(110, '7')), std::string::npos);  // a whole row of the long line
