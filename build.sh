@@ -47,6 +47,7 @@ python_packages=(
   python3-pytest                 # the module's tests
   jupyter-nbconvert python3-nbclient python3-ipykernel  # running the notebooks headless
   python3-dask python3-distributed  # billiard.sweep: ensembles of runs on worker processes or a cluster
+  python3-gsd                    # billiard.write_trajectory: GSD files (HOOMD-blue's format, read by OVITO)
   python3-pip python3-venv       # installing the package like a library (pip install . into a venv)
 )
 # The grader's tests need these as well (test, with every test or the labels grader, packages,

@@ -11,14 +11,27 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace py = pybind11;
 
 namespace billiard::python {
 namespace {
+
+// How often Simulation.advance lets Python run its signal handlers: every 40 microseconds at 2.5
+// million events per second, so that even a run of slow events (huge systems, islands of
+// sleeping discs waking) stops at once. A check costs nanoseconds when no signal came: even one
+// after every event slowed a run by only 1 to 2%.
+constexpr std::int64_t kEventsBetweenSignalChecks = 100;
+
+// The contents of a Python bytes object, without a copy.
+std::string_view bytes_view(const py::bytes& data) {
+  return std::string_view(PyBytes_AS_STRING(data.ptr()), static_cast<std::size_t>(PyBytes_GET_SIZE(data.ptr())));
+}
 
 // Real numbers only: numpy would also cast booleans, complex numbers and text to float64.
 bool real_kind(const py::array& array) {
@@ -249,10 +262,22 @@ counter-clockwise from +x.)");
           "(width, height) of the periodic box; (0, 0) if none.")
       .def_property_readonly("table_radius", &Container::table_radius, "Radius of the circular table; 0 if none.")
       .def_property_readonly("periodic", &Container::periodic, "Whether this is a periodic box.")
+      .def_property_readonly(
+          "bounds",
+          [](const Container& c) {
+            Vec2 lower, upper;
+            c.bounds(lower, upper);
+            return py::make_tuple(pair(lower), pair(upper));
+          },
+          "((xmin, ymin), (xmax, ymax)): a box holding every place a disc's centre can reach (the periodic\n"
+          "box itself, or the box around the table and the outlines).")
       .def("__repr__", &container_repr)
       .def("__copy__", [](const Container& c) { return Container(c); })
       .def(
-          "__deepcopy__", [](const Container& c, const py::dict&) { return Container(c); }, py::arg("memo"));
+          "__deepcopy__", [](const Container& c, const py::dict&) { return Container(c); }, py::arg("memo"))
+      // (Picklable, so that containers can be parameters of billiard.sweep's runs.)
+      .def(py::pickle([](const Container& c) { return py::bytes(c.to_bytes()); },
+                      [](const py::bytes& data) { return Container::from_bytes(bytes_view(data), "the pickled container"); }));
 
   m.def("circular_table", &circular_table, py::arg("radius"),
         "A circular table of this radius centred at the origin; discs live inside it.");
@@ -513,8 +538,20 @@ inertia (n,). Bad input raises ValueError naming the argument (and the disc) and
             if (!events && !time) throw std::invalid_argument("advance: give events=..., time=... or both");
             // (Named as in Python: the library's messages say max_events and max_duration.)
             if (events && *events < 0) throw std::invalid_argument("advance: events must be >= 0, got " + std::to_string(*events));
-            if (time && !(*time >= 0)) throw std::invalid_argument("advance: time must be >= 0, got " + short_repr(py::float_(*time)));
-            const AdvanceResult r = s.advance(events.value_or(kAllEvents), time.value_or(kNever));
+            if (time && !(*time >= 0)) {
+              throw std::invalid_argument("advance: time must be a number >= 0, got " + short_repr(py::float_(*time)) +
+                                          (std::isnan(*time) ? " (not a number)" : ""));
+            }
+            // The engine holds the GIL while it runs, so Python's signal handlers (Ctrl-C's
+            // KeyboardInterrupt) would wait for the whole run: let them run every
+            // kEventsBetweenSignalChecks events. A handler that raises stops the engine at that
+            // event boundary (the state stays valid), and its exception leaves advance.
+            const auto raise_pending_signal = [](const AdvanceResult&) {
+              if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+              return false;
+            };
+            const AdvanceResult r = s.advance(events.value_or(kAllEvents), time.value_or(kNever), raise_pending_signal,
+                                              kEventsBetweenSignalChecks);
             py::dict d;
             d["collisions"] = r.collisions;
             d["disc_collisions"] = r.disc_collisions;
@@ -529,7 +566,9 @@ inertia (n,). Bad input raises ValueError naming the argument (and the disc) and
           py::arg("events") = py::none(), py::arg("time") = py::none(),
           "Advances by `events` collisions or `time`, whichever comes first; returns counts (collisions,\n"
           "disc_collisions, wall_collisions, cell_crossings, stale_events), elapsed, stuck and stuck_reason\n"
-          "(what happened when stuck; the state stays valid).")
+          "(what happened when stuck; the state stays valid). Ctrl-C (or any signal handler that raises) stops\n"
+          "the run within a millisecond at an event boundary and raises KeyboardInterrupt (the handler's\n"
+          "exception); the state stays valid and advance may go on.")
       .def_property_readonly("time", &Simulation::time, "The current time.")
       .def("__len__", &Simulation::size, "Number of discs.")
       .def_property_readonly(
@@ -538,6 +577,12 @@ inertia (n,). Bad input raises ValueError naming the argument (and the disc) and
       .def_property_readonly(
           "initial_state", [](const Simulation& s) { return state_dict(s, s.initial_state()); },
           "The discs at the first advance() (or now, before it).")
+      .def_property_readonly(
+          "images", &Simulation::images,
+          "Periodic image counts now, an int64 array (n, 2), row i for disc i of current_state: how many times\n"
+          "each disc was wrapped across the periodic box along x and y (+1 at the upper face, -1 at the lower).\n"
+          "position + images * container.period is the unwrapped position (for displacements); zeros without a\n"
+          "periodic box.")
       .def("enable_event_log", &Simulation::enable_event_log, py::arg("on") = true,
            "Record every event (enable before the first advance() to replay).")
       .def("clear_event_log", &Simulation::clear_event_log, "Forget the recorded events (the log keeps recording if enabled).")
@@ -573,7 +618,33 @@ inertia (n,). Bad input raises ValueError naming the argument (and the disc) and
       .def_property_readonly(
           "restitution",
           [](const Simulation& s) { return py::make_tuple(s.restitution().normal, s.restitution().tangential); },
-          "Coefficients of restitution in use (normal, tangential).");
+          "Coefficients of restitution in use (normal, tangential).")
+      .def(
+          "save",
+          [](const Simulation& s, const py::object& path) {
+            py::module_::import("pathlib").attr("Path")(path).attr("write_bytes")(py::bytes(s.to_bytes()));
+          },
+          py::arg("path"),
+          "Saves the whole simulation to the file at `path` (a str or os.PathLike): everything that decides its\n"
+          "future, so that Simulation.load(path) continues exactly as this one would (the same events, bit for bit).")
+      .def_static(
+          "load",
+          [](const py::object& path) {
+            const py::bytes data = py::module_::import("pathlib").attr("Path")(path).attr("read_bytes")();
+            return Simulation::from_bytes(bytes_view(data), std::string(py::str(path)));
+          },
+          py::arg("path"),
+          "The simulation saved by save(path). A file that is not one, was written by another format version, is\n"
+          "truncated or damaged is refused with a ValueError saying so (never half-loaded).")
+      .def(
+          "to_bytes", [](const Simulation& s) { return py::bytes(s.to_bytes()); },
+          "The saved simulation as bytes (what save writes).")
+      .def_static(
+          "from_bytes", [](const py::bytes& data) { return Simulation::from_bytes(bytes_view(data)); }, py::arg("data"),
+          "The simulation saved as these bytes by to_bytes (refused like load).")
+      // (Picklable, so that Dask can move a simulation between processes.)
+      .def(py::pickle([](const Simulation& s) { return py::bytes(s.to_bytes()); },
+                      [](const py::bytes& data) { return Simulation::from_bytes(bytes_view(data), "the pickled simulation"); }));
 
   // The incremental replay behind Simulation.replay_by_event / replay_by_time (__init__.py).
   py::class_<Replay>(m, "_Replay")

@@ -43,7 +43,8 @@ def run(block, namespace):
     exec(compile(block, str(README), "exec"), namespace)
 
 
-def test_every_example_runs(namespace):
+def test_every_example_runs(namespace, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # (the trajectory example writes gas.gsd)
     for block in python_blocks():
         if needs_a_scheduler(block):
             compile(block, str(README), "exec")
@@ -53,6 +54,8 @@ def test_every_example_runs(namespace):
     assert isinstance(namespace["sim"], billiard.Simulation)
     assert namespace["frames"], "replay_by_time returned no frames"
     assert namespace["stepper"].current_state["time"] == pytest.approx(20.0)
+    msd = namespace["msd"]  # the trajectory's mean squared displacement: 0, then growing
+    assert len(msd) == 41 and msd[0] == 0 and msd[-1] > msd[1] > 0
 
 
 def test_the_stadium_example_keeps_its_discs_inside():

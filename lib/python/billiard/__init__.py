@@ -31,6 +31,10 @@ Ensembles: ``billiard.sweep(run, grid, seeds=...)`` runs a function of parameter
 over a parameter grid and seeds in parallel worker processes (Dask; a local cluster by default,
 or a Dask cluster's address) and returns one record per run.
 
+Trajectories: ``billiard.write_trajectory(sim, path, ...)`` (or ``billiard.TrajectoryWriter``) writes
+frames to a GSD file, the format HOOMD-blue writes and OVITO reads, with the periodic image counts;
+``billiard.read_trajectory(path)`` reads them back as arrays, unwrapped positions included.
+
 Drawing and animation: ``billiard.plotting`` (matplotlib). Errors in arguments arrive as
 ValueError with the library's message, naming the argument; an argument of the wrong Python type
 (a string for a number, a list where a numpy array is required, an int beyond the C++ parameter's
@@ -58,6 +62,7 @@ from . import _billiard
 __version__ = _billiard.__version__  # the project's version (CMakeLists.txt)
 from ._billiard import stages  # noqa: F401  (the extension stages this build has: stages.available)
 from ._sweep import local_client, sweep  # noqa: F401  (re-exported; import Dask only when called)
+from .trajectory import TrajectoryWriter, read_trajectory, write_trajectory  # noqa: F401  (gsd imported when used)
 
 if hasattr(_billiard, "Simulation"):
     from ._billiard import (  # noqa: F401  (re-exported)
@@ -116,5 +121,5 @@ __all__ = [
     "mushroom", "periodic_box", "polygon", "sinai_billiard", "stadium", "union_of_circles", "WALL",
     "Collision", "Rng", "correct_energy_drift", "course_implementation", "init_billiard", "init_velocities",
     "kinetic_energy", "local_client", "movie", "propagate", "stages", "stepping", "Stepper", "sweep",
-    "visualize_table",
+    "visualize_table", "TrajectoryWriter", "read_trajectory", "write_trajectory",
 ]

@@ -77,9 +77,10 @@ void Engine::prepare() {
   assign_walls(grid, container.walls(), max_radius * (1 + 1e-6) + 1e-12 * extent.norm());
 
   now = 0.0;
+  image_counts.assign(static_cast<std::size_t>(n), {0, 0});
   for (int i = 0; i < n; ++i) {
     HotDisc& d = hot[i];
-    d.position = container.wrap(d.position);
+    d.position = container.wrap(d.position);  // (a no-op: discs are added inside the box)
     const int cell = cell_of(grid, d.position);
     link(i, cell % grid.nx, cell / grid.nx);
   }
@@ -436,6 +437,7 @@ void Engine::cross(int i) {
     const int count = axis == 0 ? grid.nx : grid.ny;
     moved = moved < 0 ? count - 1 : 0;
     d.position[axis] -= direction_of(face) * container.period()[axis];
+    image_counts[static_cast<std::size_t>(i)][static_cast<std::size_t>(axis)] += direction_of(face);
   }
   assert(cx >= 0 && cx < grid.nx && cy >= 0 && cy < grid.ny);
   unlink(i);
@@ -661,17 +663,52 @@ bool Engine::checks_pass(int i, int j) {
   return problem.empty();
 }
 
-AdvanceResult Engine::advance(std::int64_t max_events, double max_duration) {
+AdvanceResult Engine::advance(std::int64_t max_events, double max_duration, const StopCheck& should_stop,
+                              std::int64_t check_interval) {
   if (!prepared) prepare();
   AdvanceResult result;
   const double start = now;
   const double end = now + max_duration;
+  // The run's counts go into the totals however it ends, a should_stop that throws included.
+  const auto account = [&] {
+    result.elapsed = now - start;
+    totals.disc_collisions += result.disc_collisions;
+    totals.wall_collisions += result.wall_collisions;
+    totals.cell_crossings += result.cell_crossings;
+  };
+  // Stop requests and should_stop are looked at before the first event and then every
+  // poll_interval queue entries: one countdown per event (looking at the atomic flag after every
+  // event measurably slowed the loop, by 0.7%).
+  const std::int64_t poll_interval = should_stop ? check_interval : Simulation::kEventsBetweenStopPolls;
+  std::int64_t until_poll = 1;
   // Without a duration limit, a system where no collision can ever happen (discs moving in
   // parallel in a periodic box) would cross cells forever: stop after this many crossings in a
   // row, far more than any gas needs between two collisions.
   const std::int64_t crossing_limit = 1000000 + 1000 * static_cast<std::int64_t>(hot.size());
   std::int64_t crossings_in_a_row = 0;
   while (result.collisions < max_events && !hot.empty()) {
+    // Stops happen here, between two events, where the state is as complete as after any run.
+    if (--until_poll == 0) {
+      until_poll = poll_interval;
+      if (stop.requested.load(std::memory_order_relaxed)) {
+        stop.requested.store(false, std::memory_order_relaxed);
+        result.stopped = true;
+        break;
+      }
+      if (should_stop) {
+        bool stop_now = false;
+        try {
+          stop_now = should_stop(result);
+        } catch (...) {
+          account();
+          throw;
+        }
+        if (stop_now) {
+          result.stopped = true;
+          break;
+        }
+      }
+    }
     const auto top = queue.top();
     if (top.time > end || top.time == kNever) {
       if (end < kNever) now = end;
@@ -715,10 +752,7 @@ AdvanceResult Engine::advance(std::int64_t max_events, double max_duration) {
   }
   // No discs: no event ever comes, so the duration passes.
   if (hot.empty() && max_events > 0 && end < kNever) now = end;
-  result.elapsed = now - start;
-  totals.disc_collisions += result.disc_collisions;
-  totals.wall_collisions += result.wall_collisions;
-  totals.cell_crossings += result.cell_crossings;
+  account();
   return result;
 }
 
@@ -738,6 +772,26 @@ State Engine::state_now() const {
     state.spins[i] = cold[i].spin;
   }
   return state;
+}
+
+Images Engine::images_now() const {
+  const int n = static_cast<int>(hot.size());
+  Images out = Images::Zero(n, 2);
+  if (!container.periodic()) return out;
+  const Vec2& period = container.period();
+  for (int i = 0; i < n; ++i) {
+    HotDisc d = hot[i];
+    advance_disc(d, now);
+    // state_now() wraps this position once more if rounding has left it just outside the box (a
+    // disc at its cell's outer face): that wrap counts too, as in wrap_into_period.
+    out(i, 0) = static_cast<std::int64_t>(std::floor(d.position.x() / period.x()));
+    out(i, 1) = static_cast<std::int64_t>(std::floor(d.position.y() / period.y()));
+    if (static_cast<std::size_t>(i) < image_counts.size()) {
+      out(i, 0) += image_counts[static_cast<std::size_t>(i)][0];
+      out(i, 1) += image_counts[static_cast<std::size_t>(i)][1];
+    }
+  }
+  return out;
 }
 
 // The checks of validate() for disc i at the current time: inside its container, off every wall,

@@ -14,6 +14,8 @@
 #include "sectors.hpp"
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -106,6 +108,17 @@ struct SetupHash {
   std::unordered_map<std::int64_t, std::vector<int>> cells;
 };
 
+// Simulation::request_stop's flag, set by any thread or a signal handler and read by the event
+// loop between events. Lock-free, so setting it is safe in a signal handler. A copy of the
+// engine starts without a request: that was meant for the original's run.
+struct StopRequest {
+  static_assert(std::atomic<bool>::is_always_lock_free);
+  std::atomic<bool> requested{false};
+  StopRequest() = default;
+  StopRequest(const StopRequest&) {}
+  StopRequest& operator=(const StopRequest&) { return *this; }
+};
+
 // The data and the event loop of a Simulation, which holds it behind an opaque pointer.
 struct Engine {
   Engine(Container container, const Settings& settings);
@@ -135,6 +148,10 @@ struct Engine {
   BigVector<HotDisc> hot;         // huge pages when large: see memory.hpp
   BigVector<ColdDisc> cold;
   BigVector<Scheduled> scheduled;
+  // Periodic image counts, from the first advance on (empty before): how often each disc was
+  // wrapped across the box along x and y, +1 at the upper face, -1 at the lower. Kept out of
+  // HotDisc: written only at a wrap, rare next to collisions, and read only by images_now().
+  std::vector<std::array<std::int64_t, 2>> image_counts;
   double max_radius = 0.0;
   double min_radius = kNever;
   SetupHash setup_hash;
@@ -163,6 +180,7 @@ struct Engine {
   bool validate_every_event = false;
   bool check_event_discs = false;
   std::string problem;
+  StopRequest stop;
 
   // Setup helpers (simulation.cpp).
   void check_disc(const Disc& disc, int index) const;
@@ -173,7 +191,8 @@ struct Engine {
 
   // Event loop (engine.cpp).
   void prepare();
-  AdvanceResult advance(std::int64_t max_events, double max_duration);
+  AdvanceResult advance(std::int64_t max_events, double max_duration, const StopCheck& should_stop,
+                        std::int64_t check_interval);
   // The steps of advance.
   bool stuck_at_instant(double time, AdvanceResult& result);
   void prefetch_upcoming(int changing);
@@ -222,6 +241,7 @@ struct Engine {
   int cell_of_disc(const HotDisc& d) const { return d.cx + grid.nx * d.cy; }
   void unlink(int i);
   State state_now() const;
+  Images images_now() const;  // consistent with state_now()'s wrapped positions
   std::string check(double tolerance = 1e-9) const;
   std::string disc_problem(int i, double tolerance, const Vec2* positions) const;
   void record(EventKind kind, int i, int other, int wall);

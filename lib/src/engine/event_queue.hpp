@@ -162,6 +162,46 @@ class CalendarQueue {
            free_.capacity() * sizeof(int) + overflow_.capacity() * sizeof(Entry);
   }
 
+  // Every member but the keys, for saving a simulation and loading it back (snapshot.cpp):
+  // `io` writes or reads each in turn. All of them, since the order in which equal keys come out
+  // depends on where each entry sits.
+  template <class Io>
+  void transfer(Io& io) {
+    const auto entry = [&io](Entry& e) {
+      io(e.time);
+      io(e.disc);
+      io(e.tag);
+    };
+    io(size_);
+    io.sequence(storage_, sizeof(Entry), entry);
+    io(heap_size_);
+    io.check(heap_size_ == 0 || (heap_size_ > 0 && static_cast<std::size_t>(heap_size_) + kPad <= storage_.size()),
+             "queue heap size");
+    io.sequence(chunks_, 3 * sizeof(Entry) + 2 * sizeof(int), [&](Chunk& chunk) {
+      for (Entry& e : chunk.entry) entry(e);
+      io(chunk.count);
+      io(chunk.next);
+    });
+    io(free_);
+    io.sequence(overflow_, sizeof(Entry), entry);
+    io(pending_);
+    io.check(pending_ >= 0 && pending_ <= kPending, "queue pending count");
+    for (int k = 0; k < pending_; ++k) {
+      entry(pending_entry_[k]);
+      io(pending_bucket_[k]);
+    }
+    io(waiting_);
+    io(walker_);
+    io(buckets_);
+    io(origin_);
+    io(width_);
+    io(inverse_width_);
+    io(current_);
+    io(horizon_);
+    io(moved_);
+    io(changes_);
+  }
+
  private:
   static constexpr int kArity = 4;
   static constexpr int kPad = 3;  // root at storage_[kPad]: each group of 4 children on one cache line

@@ -509,10 +509,22 @@ int Simulation::add_random_discs(int n, double radius, double mass, double kT, s
 }
 
 AdvanceResult Simulation::advance(std::int64_t max_events, double max_duration) {
-  if (max_events < 0) refuse("advance: max_events must be >= 0, got " + std::to_string(max_events));
-  if (!(max_duration >= 0)) refuse("advance: max_duration must be >= 0, got " + describe(max_duration));
-  return engine_of(engine_).advance(max_events, max_duration);
+  return advance(max_events, max_duration, nullptr, kEventsBetweenStopPolls);
 }
+
+AdvanceResult Simulation::advance(std::int64_t max_events, double max_duration, const StopCheck& should_stop,
+                                  std::int64_t check_interval) {
+  if (max_events < 0) refuse("advance: max_events must be >= 0, got " + std::to_string(max_events));
+  // (A NaN fails every comparison, so "must be >= 0, got nan" alone would read as a riddle.)
+  if (!(max_duration >= 0)) {
+    refuse("advance: max_duration must be a number >= 0, got " + describe(max_duration) +
+           (std::isnan(max_duration) ? " (not a number)" : ""));
+  }
+  if (check_interval < 1) refuse("advance: check_interval must be >= 1, got " + std::to_string(check_interval));
+  return engine_of(engine_).advance(max_events, max_duration, should_stop, check_interval);
+}
+
+void Simulation::request_stop() { engine_of(engine_).stop.requested.store(true, std::memory_order_relaxed); }
 
 int Simulation::size() const { return static_cast<int>(engine_of(engine_).hot.size()); }
 double Simulation::time() const { return engine_of(engine_).now; }
@@ -522,6 +534,7 @@ const State& Simulation::initial_state() const {
   if (!e.prepared) e.initial = e.state_now();
   return e.initial;
 }
+Images Simulation::images() const { return engine_of(engine_).images_now(); }
 const Container& Simulation::container() const { return engine_of(engine_).container; }
 Totals Simulation::totals() const { return engine_of(engine_).totals; }
 
@@ -550,7 +563,8 @@ double Simulation::potential_energy() const {
 double Simulation::memory_bytes() const {
   const Engine& e = engine_of(engine_);
   return static_cast<double>(e.hot.capacity() * sizeof(HotDisc) + e.cold.capacity() * sizeof(ColdDisc) +
-                             e.scheduled.capacity() * sizeof(Scheduled) + e.queue.memory_bytes() +
+                             e.scheduled.capacity() * sizeof(Scheduled) + e.image_counts.capacity() * sizeof(e.image_counts[0]) +
+                             e.queue.memory_bytes() +
                              e.grid.records.capacity() * sizeof(int) + e.grid.spill.capacity() * sizeof(int) +
                              e.grid.spill_free.capacity() * sizeof(int) + e.grid.wall_ranges.capacity() * sizeof(int) +
                              e.grid.wall_items.capacity() * sizeof(int) + e.log.capacity() * sizeof(EventRecord));

@@ -24,6 +24,7 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace billiard {
@@ -98,6 +99,12 @@ class Container {
     }
     return dr;
   }
+  // ---- Saving and loading (snapshot.cpp; the format is that of Simulation::to_bytes) ----
+  // The container as bytes, and back: from_bytes refuses (std::invalid_argument, naming
+  // `source`) anything that is not such bytes, unchanged, from this format version.
+  std::string to_bytes() const;
+  static Container from_bytes(std::string_view bytes, const std::string& source = "the data");
+
   // Why a disc of `radius` centred at p is not inside the container by more than `slack` (the
   // table, the periodic box, the outlines), as the end of a sentence after "disc i"; "" if it is.
   std::string outside(const Vec2& p, double radius, double slack) const;
@@ -124,6 +131,7 @@ class Container {
   friend Container stadium(const Vec2&, double, double);
   friend Container mushroom(const Vec2&, double, double, double);
   friend Container union_of_circles(const Points&, const std::vector<double>&);
+  friend struct ContainerFields;  // (reads and writes the members below, for to_bytes)
 
   // A container of one closed outline (or a hole); end points closer than `merge` are one.
   static Container of_outline(std::vector<WallShape> pieces, double merge = 0.0);

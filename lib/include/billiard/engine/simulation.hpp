@@ -23,6 +23,18 @@
 //
 // Units: the user's. Time starts at 0. Energy is conserved to rounding for smooth elastic discs
 // (about 1e-16 relative per collision, a random walk).
+//
+// Stopping a long run: advance() stops between two events when another thread (or a signal
+// handler) calls request_stop(), or when the function given to advance() as `should_stop`
+// returns true (it is asked every so many events). The result then says `stopped`; the state is
+// the one after the last event handled, as valid as after any event, and advancing further
+// gives exactly the future an unstopped run would have had. Python's binding uses the second
+// way to let Ctrl-C (KeyboardInterrupt) stop a run, since the engine holds Python's lock.
+//
+// Saving and restarting: to_bytes() (or save(stream)) keeps everything that decides the future,
+// and from_bytes() (or load(stream)) makes a simulation that continues exactly as the original
+// would have, bit for bit; a damaged file, or one of another format version, is refused with a
+// message saying so, never half-loaded. Containers have to_bytes() and from_bytes() too.
 #pragma once
 
 #include "billiard/engine/collide.hpp"
@@ -33,15 +45,24 @@
 #include "billiard/engine/wall.hpp"
 
 #include <cstdint>
+#include <functional>
+#include <iosfwd>
 #include <limits>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace billiard {
 
 inline constexpr std::int64_t kAllEvents = std::numeric_limits<std::int64_t>::max();
+
+// Periodic image counts, N by 2 (row i = disc i, columns x and y): how many times each disc has
+// been wrapped across the periodic box, +1 for each crossing of its upper face (x = width or
+// y = height) and -1 for each crossing of the lower. Position + images * period is the unwrapped
+// position, continuous in time: displacements and mean squared displacements come from it.
+using Images = Eigen::Matrix<std::int64_t, Eigen::Dynamic, 2, Eigen::RowMajor>;
 
 // What advance() did. "Collisions" are disc-disc plus disc-wall events; cell crossings and
 // stale queue entries are bookkeeping and are counted separately.
@@ -58,7 +79,16 @@ struct AdvanceResult {
   // collision can happen, e.g. all discs moving in parallel in a periodic box).
   bool stuck = false;
   std::string stuck_reason;  // what happened, when stuck; the state is valid and advance may go on
+  // True if the run stopped early because request_stop() or advance()'s `should_stop` asked it
+  // to (not because of the event or duration limit); the state is valid and advance may go on.
+  bool stopped = false;
 };
+
+// Asked by advance() between two events (before the first, then every `check_interval`
+// events), with the counts so far: true stops the run there. If it throws, the run stops there
+// too (the state and the totals are those after the last event handled) and the exception
+// propagates out of advance().
+using StopCheck = std::function<bool(const AdvanceResult& so_far)>;
 
 // Running totals since time 0, for pressure: PA = N kT + virial / (2 t) (lib/PHYSICS.md,
 // "Statistical physics") and the
@@ -109,12 +139,33 @@ class Simulation {
   // Advances until max_events collisions have happened or max_duration time has passed,
   // whichever comes first (the clock then stops exactly at the duration).
   AdvanceResult advance(std::int64_t max_events, double max_duration = kNever);
+  // The same, also stopping when `should_stop` (if not empty) returns true. It is asked before
+  // the first event and then every `check_interval` (>= 1) events, counting cell crossings and
+  // stale queue entries too (a run may cross cells for long between collisions); asking only
+  // every so many events keeps the cost per event negligible (an event takes about 0.4
+  // microseconds).
+  AdvanceResult advance(std::int64_t max_events, double max_duration, const StopCheck& should_stop,
+                        std::int64_t check_interval = kEventsBetweenStopPolls);
+  // Asks advance() to stop between two events; callable from any thread and from a signal
+  // handler (it only sets a lock-free atomic flag; the simulation must outlive the call).
+  // advance() looks at the request when it would ask should_stop, or, without one, before the
+  // first event and then every kEventsBetweenStopPolls events (well under a millisecond). The
+  // request stays until an advance() honours it: the one running, or else the next one, before
+  // its first event (`stopped` true, no event). So a request made just as a run starts or ends
+  // is never lost, and a loop of advance() calls ends at its next call. A copy of the simulation
+  // starts without a request.
+  void request_stop();
+  static constexpr std::int64_t kEventsBetweenStopPolls = 1000;
 
   // ---- State ----
   int size() const;
   double time() const;
   State current_state() const;        // all discs advanced to time()
   const State& initial_state() const; // as at the first advance (or now, before it)
+  // Image counts at time(), row i for row i of current_state(): its positions + images() times
+  // the period are the unwrapped positions. Counted from the first advance (discs are added
+  // inside the box, at image 0); zeros without a periodic box. A copy keeps them.
+  Images images() const;
   const Container& container() const;
   Totals totals() const;
   double kinetic_energy() const;      // sum m v^2/2 + I w^2/2
@@ -165,6 +216,26 @@ class Simulation {
   void set_check_event_discs(bool on);
   // The problem that stopped the last advance() (or the last validate()'s), if any.
   std::optional<std::string> last_problem() const;
+
+  // ---- Saving and loading (snapshot.cpp) ----
+  // The whole simulation as bytes: the container, the settings and the granular model's chosen
+  // values, the discs (spins, sleeping discs), the time, the totals, the image counts, the
+  // event log and the engine's cells and event queue as they are, so that a loaded copy
+  // continues exactly as the original would (the same events, bit for bit, on a machine of the
+  // same kind). (No random state: add_random_discs takes its seed per call.) A stop request is
+  // not kept. The layout: "billiard-simulation" and a zero byte, a byte-order mark (uint32
+  // 0x01020304), the format version (uint32 kFileFormatVersion), the library version (uint32
+  // length and text), the length of the data (uint64), the data, and a 64-bit FNV-1a checksum
+  // of everything before it.
+  std::string to_bytes() const;
+  void save(std::ostream& out) const;  // writes to_bytes()
+  // A simulation from to_bytes() (or a saved stream, read to its end). Anything else is refused
+  // with a std::invalid_argument that names `source` and says why: not a billiard simulation
+  // file, another format version (or byte order), truncated, or damaged (checksum mismatch).
+  // Nothing is half-loaded: the result is made whole or not at all.
+  static Simulation from_bytes(std::string_view bytes, const std::string& source = "the data");
+  static Simulation load(std::istream& in, const std::string& source = "the stream");
+  static constexpr std::uint32_t kFileFormatVersion = 1;
 
  private:
   // The disc arrays, the cells, the queue and the event loop, whose type belongs to lib/src
