@@ -367,8 +367,7 @@ def plausible_simulation_call(rng):
                     lambda s: (s.add_random_discs(n, radius, kT=kT, seed=seed), s.add_discs(positions, positions, 0.1)),
                     "either", [])
     if choice == 4:
-        # (not a normal restitution of 0: see FuzzApi.DISABLED_InelasticDiscsStayOnTheTable in test_fuzz_api.cpp)
-        normal, tangential = rng.choice([1e-3, 0.5, 0.9, 1.0]), rng.choice([-1.0, 0.0, -0.0, 1.0])
+        normal, tangential = rng.choice([0.0, 1e-3, 0.5, 0.9, 1.0]), rng.choice([-1.0, 0.0, -0.0, 1.0])
         return call(f"set_restitution({normal!r}, {tangential!r})", lambda s: s.set_restitution(normal, tangential),
                     "either", [], setup=False)
     events, duration = rng.choice([None, 0, 1, 50]), rng.choice([None, 0.0, -0.0, DENORMAL, 0.5, INF])
@@ -718,8 +717,7 @@ def plausible_settings_value(rng):
     if field == "gravity":
         return field, (extreme_value(rng, 5), extreme_value(rng, 5))
     if field == "restitution":
-        # (not a normal restitution of 0: see FuzzApi.DISABLED_InelasticDiscsStayOnTheTable in test_fuzz_api.cpp)
-        normal, tangential = rng.choice([1e-3, 0.5, 0.9, 1.0]), rng.choice([-1.0, 0.0, -0.0, 1.0])
+        normal, tangential = rng.choice([0.0, 1e-3, 0.5, 0.9, 1.0]), rng.choice([-1.0, 0.0, -0.0, 1.0])
         return field, rng.choice([normal, (normal, tangential)])
     if field == "cell_size":
         return field, rng.choice([0.0, -0.0, DENORMAL, 1e-300, 0.5, 3.0, 1e50, 1e308, HUGE])

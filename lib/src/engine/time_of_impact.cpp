@@ -205,18 +205,31 @@ double disc_in_circle_time(const Vec2& r, const Vec2& v, const Vec2& g, double r
     return std::max(t, 0.0);
   }
   // f(t) = |r + v t + g t^2/2|^2 - reach^2, upward crossing; quartic as in disc_point_time.
+  // Moving along the rim (cosine between r and v below 1e-12, as in disc_point_time and
+  // disc_arc_time, which must agree with this function) is neither moving in nor out.
+  const double slope0 = B * B <= 1e-24 * r.squaredNorm() * v.squaredNorm() ? 0.0 : 2 * B;
   const double second = v.squaredNorm() + r.dot(g);
-  if (C >= 0 && (B > 0 || (B == 0 && second > 0))) return 0.0;
+  if (C >= 0 && (slope0 > 0 || (slope0 == 0 && second > 0))) return 0.0;
   // Under gravity every disc reaches the wall: by t_max, |r(t)| >= |g| t^2/2 - |v| t - |r| >=
   // reach, so f(t_max) >= 0 and the crossing lies in [0, t_max]. The bound is exact for a disc
   // dropped from rest at the centre, where rounding can leave f(t_max) a hair below zero: a
   // margin of 1e-9 keeps the crossing inside.
   const QuadraticRoots bound = solve_quadratic(0.5 * g.norm(), -v.norm(), -(r.norm() + reach));
-  const double poly[5] = {C, 2 * B, second, v.dot(g), 0.25 * g.squaredNorm()};
-  const double t = first_polynomial_crossing(poly, 4, bound.hi * (1 + 1e-9), true);
-  // Found a hair outside and moving in, but too slowly to get inside before gravity takes it out
-  // again: f never dips below zero, so there is no upward crossing to find. It is in contact:
-  // collide now (the wall then puts it back on the circle, see collide_wall).
+  const double t_max = bound.hi * (1 + 1e-9);
+  const double poly[5] = {C, slope0, second, v.dot(g), 0.25 * g.squaredNorm()};
+  if (C >= 0) {
+    // A hair outside and moving in, so slowly that f turns up again before it gets below zero
+    // (a disc sliding along the rim after an inelastic hit: its normal speed is rounding, and
+    // gravity presses it outwards): it never gets inside, so it is in contact now. Without this
+    // the first upward crossing found would be a later one, after the disc has flown on outside
+    // the wall and come back in.
+    const double slope[4] = {slope0, 2 * second, 3 * poly[3], 4 * poly[4]};
+    double turning[3];
+    const double lowest = roots_in(slope, 3, 0.0, t_max, turning) > 0 ? turning[0] : t_max;
+    if (horner(poly, 4, lowest) >= 0) return 0.0;
+  }
+  const double t = first_polynomial_crossing(poly, 4, t_max, true);
+  // (A hair outside whose dip below zero rounding hides from the bisection: in contact too.)
   return t == kNever && C >= 0 ? 0.0 : t;
 }
 

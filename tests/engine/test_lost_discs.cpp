@@ -1,0 +1,122 @@
+// Settings at which the engine once lost discs (a disc outside its container, on a wall or out of
+// its cell, found by validate()): perfectly inelastic beds sliding along curved walls, long runs
+// in a periodic box under gravity, a huge spin turned into a huge speed, and the largest scales
+// and gravity allowed. Each run must end valid (lib/DESIGN.md, "Discs are never lost").
+#include "billiard/engine/simulation.hpp"
+#include "helpers.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+using billiard::Container;
+using billiard::Settings;
+using billiard::Simulation;
+using billiard::Vec2;
+using engine_test::make_disc;
+
+namespace {
+
+// 20 random discs of radius 0.13 in `table` under gravity (0, -1) with this restitution, each
+// event's discs checked, for 2000 collisions; the seeds whose run ended invalid.
+std::vector<std::string> lost_in_inelastic_beds(const Container& table, double normal, double tangential, int seeds) {
+  std::vector<std::string> lost;
+  for (int seed = 0; seed < seeds; ++seed) {
+    Settings settings;
+    settings.gravity = Vec2(0, -1);
+    settings.restitution = {normal, tangential};
+    Simulation sim(table, settings);
+    sim.add_random_discs(20, 0.13, 1.0, 1.0, static_cast<std::uint64_t>(seed));
+    sim.set_check_event_discs(true);
+    sim.advance(2000);
+    if (const auto problem = sim.validate()) lost.push_back("seed " + std::to_string(seed) + ": " + *problem);
+  }
+  return lost;
+}
+
+std::string joined(const std::vector<std::string>& lines) {
+  std::string all;
+  for (const std::string& line : lines) all += line + "\n";
+  return all;
+}
+
+}  // namespace
+
+// Perfectly inelastic discs (restitution 0, normal and tangential) settling in a circular table
+// and in a stadium: they slide along the rim, pressed against it by gravity.
+TEST(LostDiscs, InelasticBedsStayInCurvedContainers) {
+  const auto in_table = lost_in_inelastic_beds(billiard::circular_table(6), 0.0, 0.0, 200);
+  EXPECT_TRUE(in_table.empty()) << in_table.size() << " of 200 beds in the table invalid:\n" << joined(in_table);
+  const auto in_stadium = lost_in_inelastic_beds(billiard::stadium(Vec2(0, 0), 4, 4), 0.0, 0.0, 200);
+  EXPECT_TRUE(in_stadium.empty()) << in_stadium.size() << " of 200 beds in the stadium invalid:\n" << joined(in_stadium);
+}
+
+// Smooth discs with restitution 0 in the table and in a stadium (arcs joined by segments).
+TEST(LostDiscs, SmoothInelasticBedsStayInCurvedContainers) {
+  const auto in_table = lost_in_inelastic_beds(billiard::circular_table(6), 0.0, -1.0, 200);
+  EXPECT_TRUE(in_table.empty()) << in_table.size() << " of 200 beds in the table invalid:\n" << joined(in_table);
+  const auto in_stadium = lost_in_inelastic_beds(billiard::stadium(Vec2(0, 0), 4, 4), 0.0, -1.0, 200);
+  EXPECT_TRUE(in_stadium.empty()) << in_stadium.size() << " of 200 beds in the stadium invalid:\n" << joined(in_stadium);
+}
+
+// Two discs falling through a periodic box run ever faster and cross ~10^7 cells: their wrapped
+// positions must stay inside the box at large times.
+TEST(LostDiscs, LongPeriodicRunsUnderGravityStayInTheBox) {
+  GTEST_SKIP() << "left to do: re-base the clock (lib/DESIGN.md, \"Discs are never lost\"); events at t ~ 10^3 are placed "
+                  "only to speed x ulp(t), beyond validate()'s tolerance";
+  Settings settings;
+  settings.gravity = Vec2(0, -1);
+  Simulation sim(billiard::periodic_box(10.77, 12.97), settings);
+  sim.add_random_discs(2, 0.0617, 1.0, 1.0, 120);
+  sim.set_check_event_discs(true);
+  const auto result = sim.advance(200);
+  EXPECT_EQ(sim.validate(), std::nullopt) << "after " << result.collisions << " collisions and " << result.cell_crossings
+                                          << " cell crossings, time " << sim.time();
+}
+
+// A rough disc spinning at the largest spin allowed meets another: the collision turns spin into a
+// speed near 1e50.
+TEST(LostDiscs, HugeSpinsStayInTheirCells) {
+  GTEST_SKIP() << "left to do: re-base the clock (lib/DESIGN.md, \"Discs are never lost\"); at t ~ 1 a speed of 1e29 moves "
+                  "a disc 1e13 per tick of the clock";
+  for (const double spin : {1e50, -1e50, 1e30}) {
+    for (const double tangential : {1.0, 0.0}) {
+      Settings settings;
+      settings.restitution = {1.0, tangential};
+      Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), settings);
+      billiard::Disc spinning = make_disc(Vec2(5, 10), Vec2(1, 0), 0.5);
+      spinning.spin = spin;
+      sim.add_disc(spinning);
+      sim.add_disc(make_disc(Vec2(8, 10), Vec2(-1, 0), 0.5));
+      sim.add_random_discs(20, 0.3, 1.0, 1.0, 7);
+      sim.set_check_event_discs(true);
+      const auto result = sim.advance(2000);
+      EXPECT_EQ(sim.validate(), std::nullopt) << "spin " << spin << ", tangential restitution " << tangential << ", after "
+                                              << result.collisions << " collisions";
+    }
+  }
+}
+
+// The largest lengths and gravity allowed with nearly inelastic discs: a union of circles scaled by
+// 1e20 under gravity 1e50, restitution 1e-3.
+TEST(LostDiscs, HugeUnionOfCirclesUnderHugeGravity) {
+  billiard::Points centres(3, 2);
+  centres << 0, 0, 5e20, 1e20, -3e20, 4e20;
+  const std::vector<double> radii = {6e20, 4e20, 5e20};
+  for (const Vec2& gravity : {Vec2(0, -1e50), Vec2(1e50, -1e50), Vec2(-1e50, 0)}) {
+    for (int seed = 0; seed < 10; ++seed) {
+      Settings settings;
+      settings.gravity = gravity;
+      settings.restitution = {1e-3, -1};
+      Simulation sim(billiard::union_of_circles(centres, radii), settings);
+      sim.add_random_discs(20, 1e19, 1.0, 1.0, static_cast<std::uint64_t>(seed));
+      sim.set_check_event_discs(true);
+      const auto result = sim.advance(2000);
+      EXPECT_EQ(sim.validate(), std::nullopt) << "gravity (" << gravity.x() << ", " << gravity.y() << "), seed " << seed << ", after "
+                                              << result.collisions << " collisions";
+    }
+  }
+}
