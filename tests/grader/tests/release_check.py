@@ -54,8 +54,9 @@ def readme_paths(markdown):
     """Paths the README shows in inline code: `tasks/propagate.cpp`, `build/<preset>/python/`."""
     paths = []
     for span in re.findall(r"(?<!`)`([^`\n ]+)`(?!`)", markdown):
-        # `billiard/...` names a file of the Python package, relative to lib/python/
-        if "/" in span and not span.startswith(("./", "/", "http", "billiard/")):
+        # `billiard/...` names a file of the Python package, relative to lib/python/; `particles/...`,
+        # `configuration/...` and `log/...` name the fields of a GSD trajectory
+        if "/" in span and not span.startswith(("./", "/", "http", "billiard/", "particles/", "configuration/", "log/")):
             paths.append(span)
     return paths
 
