@@ -197,7 +197,7 @@ def grade(arguments):
         build.prebuild()
     else:
         print(f"grade: grading with the grader built in {arguments.build}", flush=True)
-    with lock_closed(lock), protected(arguments.protect_reference, build), cell.Cells(build.launcher, TASKS) as cells:
+    with contextlib.closing(lock), protected(arguments.protect_reference, build), cell.Cells(build.launcher, TASKS) as cells:
         print(f"grade: each grading in its cells: {cells.protections.describe()}", flush=True)
         compiler = TaskFileCompiler(build, cells)
         limits, factor, slower = task_limits(arguments, build, compiler, cells, grading)
@@ -232,14 +232,6 @@ def grade(arguments):
     print(f"grade: {elapsed:.0f} s in all, of which {own_build:.0f} s for the grader's own build; "
           + limits_summary(limits, tasks, factor, slower))
     return results
-
-
-@contextlib.contextmanager
-def lock_closed(lock):
-    try:
-        yield
-    finally:
-        lock.close()
 
 
 class protected:

@@ -14,10 +14,8 @@ import pytest
 REPO = pathlib.Path(__file__).resolve().parents[2]
 README = REPO / "lib" / "README.md"
 BUILD = os.environ.get("BILLIARD_BUILD", "")  # this build folder, whose library is installed
-
-
-def version():
-    return re.search(r"^project\(billiard VERSION ([0-9.]+)", (REPO / "CMakeLists.txt").read_text(), re.M)[1]
+sys.path.insert(0, str(REPO / "lib" / "python"))
+from wheel_backend import project_version  # noqa: E402  (the version in CMakeLists.txt, read one way)
 
 
 def run(command, **options):
@@ -62,6 +60,6 @@ sim.add_random_discs(50, 0.5, seed=1)
 print(sim.advance(events=2000)["collisions"], sim.validate())
 """], cwd=elsewhere, env={key: value for key, value in os.environ.items() if key != "PYTHONPATH"})
     first, second = output.strip().splitlines()[-2:]
-    assert first.split()[0] == version()
+    assert first.split()[0] == project_version()
     assert pathlib.Path(first.split()[1]).is_relative_to(venv), first  # the installed copy, not this build's
     assert second == "2000 None"
