@@ -118,7 +118,8 @@ TEST(Snapshot, RoughDiscsOfUnequalSizesContinueBitForBit) {
   table.add_segment(Vec2(2, 2), Vec2(8, 3));
   table.add_arc(Vec2(30, 22), 3, 0.5, 2.5);
   Simulation sim(table, settings);
-  std::mt19937_64 rng(17);
+  // (With seed 17 the cooled gas ends stuck: a slow disc grazing the inside of the arc, lib/DESIGN.md.)
+  std::mt19937_64 rng(18);
   const auto inside = [&](const Vec2& p, double a) {
     return table.outside(p, a, 0.0).empty() && !table.overlapped_wall(p, a, 0.0);
   };

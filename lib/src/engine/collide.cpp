@@ -5,27 +5,34 @@ namespace billiard {
 
 Vec2 collide(const Vec2& sigma, ContactBody& i, ContactBody& j, const Restitution& restitution) {
   // Velocity of each contact point: centre velocity plus spin times the lever arm turned by 90
-  // degrees (w x r in 2D). i's contact point is at +lever_i sigma, j's at -lever_j sigma.
+  // degrees (w x r in 2D). i's contact point is at +lever_i sigma, j's at -lever_j sigma. So the
+  // relative velocity g has the normal part (v_i - v_j).sigma and, along t = perp(sigma), the
+  // tangential part (v_i - v_j).t + w_i lever_i + w_j lever_j. Taken apart like this, a huge
+  // spin cannot swamp the normal part with its rounding (w = 1e50 and a normal speed of 1 would
+  // give g.sigma = 0 or 1e33 if g were formed first).
   const Vec2 t = perp(sigma);
-  const Vec2 g = (i.velocity + i.spin * i.lever * t) - (j.velocity - j.spin * j.lever * t);
-  const double g_normal = g.dot(sigma);
+  const Vec2 relative = i.velocity - j.velocity;
+  const double g_normal = relative.dot(sigma);
   if (g_normal <= 0) return Vec2::Zero();  // separating or grazing: no impulse
   const double inverse_mu = i.inverse_mass + j.inverse_mass;  // 1/mu
   if (inverse_mu == 0) return Vec2::Zero();                   // two immovable bodies
-  Vec2 q = -(1 + restitution.normal) * g_normal / inverse_mu * sigma;
+  // Q = q_normal sigma + q_tangent t.
+  const double q_normal = -(1 + restitution.normal) * g_normal / inverse_mu;
+  double q_tangent = 0.0;
   if (restitution.tangential > -1) {
-    const Vec2 g_tangent = g - g_normal * sigma;
+    const double g_tangent = relative.dot(t) + i.spin * i.lever + j.spin * j.lever;
     const double inverse_tangential_mass = inverse_mu + i.lever * i.lever * i.inverse_inertia +
                                            j.lever * j.lever * j.inverse_inertia;
-    q -= (1 + restitution.tangential) / inverse_tangential_mass * g_tangent;
+    q_tangent = -(1 + restitution.tangential) / inverse_tangential_mass * g_tangent;
   }
+  const Vec2 q = q_normal * sigma + q_tangent * t;
   i.velocity += i.inverse_mass * q;
   j.velocity -= j.inverse_mass * q;
   // Torque of the impulse about each centre: lever arm x impulse. For i: (lever_i sigma) x Q;
-  // for j: (-lever_j sigma) x (-Q) = lever_j sigma x Q.
-  const double sigma_cross_q = cross(sigma, q);
-  i.spin += i.inverse_inertia * i.lever * sigma_cross_q;
-  j.spin += j.inverse_inertia * j.lever * sigma_cross_q;
+  // for j: (-lever_j sigma) x (-Q) = lever_j sigma x Q; and sigma x Q = q_tangent exactly
+  // (sigma x t = 1), so smooth discs (no tangential impulse) never pick up a spin from rounding.
+  i.spin += i.inverse_inertia * i.lever * q_tangent;
+  j.spin += j.inverse_inertia * j.lever * q_tangent;
   return q;
 }
 

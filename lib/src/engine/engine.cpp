@@ -29,6 +29,10 @@ constexpr double kInstant = 1e-10;
 constexpr double kCellsPerDisc = 0.8;
 
 static_assert(sizeof(Scheduled) == 32, "Scheduled should stay 32 bytes");
+// The clock (see rebase): how far its rounding may misplace a disc, as a fraction of the smallest
+// radius (validate() allows 1e-9), and that rounding, relative to the time.
+constexpr double kClockBudget = 1e-11;
+constexpr double kClockRounding = 0x1p-53;
 
 void Engine::advance_disc(HotDisc& d, double t) const {
   const double dt = t - d.time;
@@ -93,6 +97,9 @@ void Engine::prepare() {
                    (prefetch_mode == Prefetch::Automatic &&
                     static_cast<double>(n) * (sizeof(HotDisc) + sizeof(Scheduled)) > kCachedBytes);
   initial = state_now();
+  speed_bound = 0.0;
+  for (const HotDisc& d : hot) speed_bound = std::max(speed_bound, d.velocity.norm());
+  plan_rebase();
   choose_granular_model();
   for (int i = 0; i < n; ++i) predict_full(i);  // (not scheduled yet: prepared is false)
   std::vector<int> tags(static_cast<std::size_t>(n));
@@ -151,6 +158,7 @@ inline void test_pair(const BigVector<HotDisc>& hot, const Vec2& gravity, int i,
   const Vec2 dv = v - vj;
   const double b = dr.dot(dv);
   if (b >= 0 || j == i) return;  // flying apart (or grazing), or i itself
+  if (moving_along(b, dr.squaredNorm(), dv.squaredNorm())) return;  // grazing, up to rounding
   const double contact = radius + o.radius;
   const double c2 = dr.squaredNorm() - contact * contact;
   // Cheap rejection before the square root: the root c / (-b + sqrt(..)) is at least
@@ -515,6 +523,8 @@ void Engine::collide_pair(int i, int j) {
   totals.virial += -dr.dot(q);  // r_ij . dp_i with r_ij = r_i - r_j = -dr
   ++a.counter;
   ++b.counter;
+  bound_speed(a);
+  bound_speed(b);
   if (sleep_speed > 0) {
     note_speed(i, speed_i);
     if (!asleep(b)) note_speed(j, speed_j);
@@ -557,6 +567,7 @@ void Engine::collide_wall(int i, int w) {
   }
   totals.wall_momentum += q.norm();
   ++d.counter;
+  bound_speed(d);
   if (sleep_speed > 0) note_speed(i, speed_before);
 }
 
@@ -575,9 +586,70 @@ Restitution Engine::restitution_of(double approach_speed, double last_i, double 
   return Restitution{1.0, conserving ? restitution.tangential : -1.0};
 }
 
+// The clock. An event at time t is placed only to within the rounding of t, a relative 2^-53, so
+// a disc moving at speed v lands up to v t 2^-53 away from its true place: a long run (large t)
+// or a huge speed (large v) makes that more than validate() allows (lib/DESIGN.md, "Discs are
+// never lost"). So engine times count from an epoch, moved up to now whenever v t 2^-53 could
+// reach kClockBudget of the smallest radius. Subtracting now from a stored time is exact when
+// the time lies within a factor two of now (Sterbenz's lemma), as every pending event's does: the
+// discs' trajectories do not change, only the clock's resolution gets finer. Between events, and
+// in a collision before its discs are predicted again (a collision that creates a huge speed).
+void Engine::rebase() {
+  const double shift = now;
+  epoch += shift;
+  now = 0.0;
+  instant -= shift;
+  run_start -= shift;
+  run_end -= shift;  // (kNever stays kNever)
+  const double g = gravity_norm;
+  double bound = 0.0;
+  const int n = static_cast<int>(hot.size());
+  std::vector<int> tags(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    HotDisc& d = hot[i];
+    ColdDisc& c = cold[i];
+    Scheduled& s = scheduled[i];
+    d.time -= shift;
+    c.last_collision -= shift;
+    c.last_disc_collision -= shift;
+    c.slow_since -= shift;
+    c.next_sleep_try -= shift;
+    s.contact_time -= shift;
+    s.crossing_time -= shift;
+    if (!asleep(d)) bound = std::max(bound, d.velocity.norm() - g * d.time);  // (d.time <= 0)
+    tags[i] = event_tag(i);
+  }
+  speed_bound = bound;
+  plan_rebase();
+  queue.assign(n, tags);  // (its calendar is planned from the keys' times)
+}
+
+// The engine time t at which (speed_bound + |g| t) t kClockRounding reaches kClockBudget of the
+// smallest radius.
+void Engine::plan_rebase() {
+  const double g = gravity_norm;
+  if (hot.empty() || (speed_bound == 0 && g == 0)) {
+    rebase_at = kNever;
+    return;
+  }
+  // The positive root of g t^2 + speed_bound t - c, in the form that does not cancel.
+  const double c = kClockBudget * min_radius / kClockRounding;
+  rebase_at = 2 * c / (speed_bound + std::hypot(speed_bound, 2 * std::sqrt(g * c)));
+}
+
+// Disc d's velocity has just changed: raise the speed bound if d is faster than it, and move the
+// clock's zero to now if its new speed needs a finer clock before d is predicted.
+void Engine::bound_speed(const HotDisc& d) {
+  const double reach = speed_bound + gravity_norm * now;
+  if (d.velocity.squaredNorm() <= reach * reach) return;  // (the common case: no square root)
+  speed_bound = d.velocity.norm() - (reach - speed_bound);
+  plan_rebase();
+  if (now > rebase_at) rebase();
+}
+
 void Engine::record(EventKind kind, int i, int other, int wall) {
   EventRecord e;
-  e.time = now;
+  e.time = epoch + now;
   e.kind = kind;
   e.disc = i;
   e.other = other;
@@ -606,7 +678,7 @@ bool Engine::stuck_at_instant(double time, AdvanceResult& result) {
   }
   if (++events_at_instant <= stuck_limit) return false;
   result.stuck = true;
-  result.stuck_reason = describe("stuck at time ", now, ": more than ", stuck_limit,
+  result.stuck_reason = describe("stuck at time ", epoch + now, ": more than ", stuck_limit,
                                  " events at that instant (within ", kInstant, " of the time; discs resting on "
                                  "each other or on a wall under gravity, or an inelastic collapse); the state is valid");
   return true;
@@ -651,8 +723,8 @@ void Engine::handle_wall_collision(int i, int wall, AdvanceResult& result) {
   if (sleep_speed > 0) try_to_sleep(i);
 }
 
-// The checks switched on by set_validate_every_event or set_check_event_discs, after a collision
-// of disc i (and disc j, or kNoDisc); false when they found a problem (kept in `problem`).
+// The checks switched on by set_validate_every_event or set_check_event_discs, after an event of
+// disc i (and disc j, or kNoDisc); false when they found a problem (kept in `problem`).
 bool Engine::checks_pass(int i, int j) {
   if (validate_every_event) {
     problem = check();
@@ -667,11 +739,11 @@ AdvanceResult Engine::advance(std::int64_t max_events, double max_duration, cons
                               std::int64_t check_interval) {
   if (!prepared) prepare();
   AdvanceResult result;
-  const double start = now;
-  const double end = now + max_duration;
+  run_start = now;
+  run_end = now + max_duration;  // (rebase() moves both)
   // The run's counts go into the totals however it ends, a should_stop that throws included.
   const auto account = [&] {
-    result.elapsed = now - start;
+    result.elapsed = now - run_start;
     totals.disc_collisions += result.disc_collisions;
     totals.wall_collisions += result.wall_collisions;
     totals.cell_crossings += result.cell_crossings;
@@ -687,6 +759,7 @@ AdvanceResult Engine::advance(std::int64_t max_events, double max_duration, cons
   const std::int64_t crossing_limit = 1000000 + 1000 * static_cast<std::int64_t>(hot.size());
   std::int64_t crossings_in_a_row = 0;
   while (result.collisions < max_events && !hot.empty()) {
+    if (now > rebase_at) rebase();
     // Stops happen here, between two events, where the state is as complete as after any run.
     if (--until_poll == 0) {
       until_poll = poll_interval;
@@ -710,8 +783,8 @@ AdvanceResult Engine::advance(std::int64_t max_events, double max_duration, cons
       }
     }
     const auto top = queue.top();
-    if (top.time > end || top.time == kNever) {
-      if (end < kNever) now = end;
+    if (top.time > run_end || top.time == kNever) {
+      if (run_end < kNever) now = run_end;
       break;
     }
     if (stuck_at_instant(top.time, result)) break;
@@ -726,9 +799,10 @@ AdvanceResult Engine::advance(std::int64_t max_events, double max_duration, cons
     if (crossing) {
       cross(i);
       ++result.cell_crossings;
-      if (++crossings_in_a_row > crossing_limit && end == kNever) {
+      if ((validate_every_event | check_event_discs) && !checks_pass(i, kNoDisc)) break;
+      if (++crossings_in_a_row > crossing_limit && run_end == kNever) {
         result.stuck = true;
-        result.stuck_reason = describe("stuck at time ", now, ": ", crossing_limit,
+        result.stuck_reason = describe("stuck at time ", epoch + now, ": ", crossing_limit,
                                        " cell crossings in a row and no collision (no collision may ever happen); "
                                        "give advance a duration");
         break;
@@ -751,7 +825,7 @@ AdvanceResult Engine::advance(std::int64_t max_events, double max_duration, cons
     if ((validate_every_event | check_event_discs) && !checks_pass(i, j)) break;
   }
   // No discs: no event ever comes, so the duration passes.
-  if (hot.empty() && max_events > 0 && end < kNever) now = end;
+  if (hot.empty() && max_events > 0 && run_end < kNever) now = run_end;
   account();
   return result;
 }
@@ -759,7 +833,7 @@ AdvanceResult Engine::advance(std::int64_t max_events, double max_duration, cons
 State Engine::state_now() const {
   const int n = static_cast<int>(hot.size());
   State state;
-  state.time = now;
+  state.time = epoch + now;
   state.positions.resize(n, 2);
   state.velocities.resize(n, 2);
   state.spins.resize(n);
@@ -835,7 +909,7 @@ std::string Engine::disc_problem(int i, double tolerance, const Vec2* positions)
     const double distance = (ri - at(j) - shift).norm();
     const double contact = d.radius + hot[j].radius;
     if (distance < contact - tolerance * std::min(d.radius, hot[j].radius)) {
-      overlap = describe("discs ", i, " and ", j, " overlap: distance ", distance, " < ", contact, " at time ", now);
+      overlap = describe("discs ", i, " and ", j, " overlap: distance ", distance, " < ", contact, " at time ", epoch + now);
     }
   });
   if (!overlap.empty()) return overlap;

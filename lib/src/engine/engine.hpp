@@ -127,6 +127,7 @@ struct Engine {
   Container container;
   Vec2 gravity = Vec2::Zero();
   bool has_gravity = false;
+  double gravity_norm = 0.0;
   Restitution restitution;
   // Disc-disc collisions take the fast smooth elastic path (restitution 1, -1, no exchange).
   bool smooth_elastic = true;
@@ -155,6 +156,20 @@ struct Engine {
   double max_radius = 0.0;
   double min_radius = kNever;
   SetupHash setup_hash;
+
+  // ---- the clock (see rebase) ----
+  // Engine times count from `epoch`, the simulation's time at engine time 0: Simulation::time()
+  // is epoch + now.
+  double epoch = 0.0;
+  // Every moving disc's speed at engine time t >= 0 is at most speed_bound + |g| t (raised at
+  // collisions, measured again at each rebase).
+  double speed_bound = 0.0;
+  // The engine time from which the clock's rounding could misplace a disc by more than
+  // kClockBudget of the smallest radius: rebase() then moves the zero to now.
+  double rebase_at = kNever;
+  // The running advance()'s start and end, in engine time (a rebase moves them).
+  double run_start = 0.0;
+  double run_end = kNever;
 
   // ---- run ----
   bool prepared = false;
@@ -198,6 +213,9 @@ struct Engine {
   void prefetch_upcoming(int changing);
   void handle_disc_collision(int i, int j, AdvanceResult& result);
   void handle_wall_collision(int i, int wall, AdvanceResult& result);
+  void rebase();
+  void plan_rebase();
+  void bound_speed(const HotDisc& d);
   bool checks_pass(int i, int j);
   void advance_disc(HotDisc& d, double t) const;
   void predict_full(int i);

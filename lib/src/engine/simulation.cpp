@@ -231,6 +231,7 @@ Engine::Engine(Container c, const Settings& s)
     : container(std::move(c)),
       gravity(s.gravity),
       has_gravity(s.gravity.x() != 0 || s.gravity.y() != 0),
+      gravity_norm(s.gravity.norm()),
       restitution(s.restitution),
       exchange_velocities(s.exchange_velocities),
       contact_duration_setting(s.contact_duration),
@@ -534,7 +535,10 @@ AdvanceResult Simulation::advance(std::int64_t max_events, double max_duration, 
 void Simulation::request_stop() { engine_of(engine_).stop.requested.store(true, std::memory_order_relaxed); }
 
 int Simulation::size() const { return static_cast<int>(engine_of(engine_).hot.size()); }
-double Simulation::time() const { return engine_of(engine_).now; }
+double Simulation::time() const {
+  const Engine& e = engine_of(engine_);
+  return e.epoch + e.now;
+}
 State Simulation::current_state() const { return engine_of(engine_).state_now(); }
 const State& Simulation::initial_state() const {
   Engine& e = engine_of(engine_);

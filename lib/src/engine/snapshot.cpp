@@ -217,6 +217,7 @@ void transfer(Io& io, Engine& e) {
   // Setup: the settings and the granular model's chosen values.
   io(e.gravity);
   io(e.has_gravity);
+  io(e.gravity_norm);
   io(e.restitution.normal);
   io(e.restitution.tangential);
   io(e.smooth_elastic);
@@ -246,6 +247,9 @@ void transfer(Io& io, Engine& e) {
   io(e.prefetch_mode);
   io(e.prefetch_ahead);
   io(e.now);
+  io(e.epoch);
+  io(e.speed_bound);
+  io(e.rebase_at);
   io(e.instant);
   io(e.events_at_instant);
   transfer(io, e.grid);

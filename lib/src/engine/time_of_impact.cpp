@@ -150,7 +150,8 @@ double first_polynomial_crossing(const double* p, int degree, double t_max, bool
 
 double disc_disc_time(const Vec2& dr, const Vec2& dv, double contact) {
   const double b = dr.dot(dv);
-  if (b >= 0) return kNever;  // flying apart, or side by side (grazing): no collision
+  // Flying apart, or side by side (grazing): no collision.
+  if (b >= 0 || moving_along(b, dr.squaredNorm(), dv.squaredNorm())) return kNever;
   const double c = dr.squaredNorm() - contact * contact;
   const double discriminant = b * b - dv.squaredNorm() * c;
   if (discriminant < 0) return kNever;  // they miss each other
@@ -166,10 +167,8 @@ double disc_point_time(const Vec2& r, const Vec2& v, const Vec2& g, const Vec2& 
   //      = (g.g/4) t^4 + (v.g) t^3 + (v.v + d.g) t^2 + 2 (d.v) t + d.d - radius^2.
   // Contact is a downward crossing of f. Rounding overlap (f(0) <= 0) while approaching: now.
   const double f0 = d.squaredNorm() - radius * radius;
-  // Moving along the contact (v at a right angle to d up to rounding, cosine below 1e-12):
-  // neither approaching nor receding, whatever the sign rounding gives d.v.
   const double b = d.dot(v);
-  const double df0 = b * b <= 1e-24 * d.squaredNorm() * v.squaredNorm() ? 0.0 : 2 * b;
+  const double df0 = moving_along(b, d.squaredNorm(), v.squaredNorm()) ? 0.0 : 2 * b;
   if (f0 <= 0) {
     if (df0 < 0 || (df0 == 0 && v.squaredNorm() + d.dot(g) < 0)) return 0.0;
   }
@@ -205,9 +204,9 @@ double disc_in_circle_time(const Vec2& r, const Vec2& v, const Vec2& g, double r
     return std::max(t, 0.0);
   }
   // f(t) = |r + v t + g t^2/2|^2 - reach^2, upward crossing; quartic as in disc_point_time.
-  // Moving along the rim (cosine between r and v below 1e-12, as in disc_point_time and
-  // disc_arc_time, which must agree with this function) is neither moving in nor out.
-  const double slope0 = B * B <= 1e-24 * r.squaredNorm() * v.squaredNorm() ? 0.0 : 2 * B;
+  // Moving along the rim (moving_along, as in disc_point_time and disc_arc_time, which must agree
+  // with this function) is neither moving in nor out.
+  const double slope0 = moving_along(B, r.squaredNorm(), v.squaredNorm()) ? 0.0 : 2 * B;
   const double second = v.squaredNorm() + r.dot(g);
   if (C >= 0 && (slope0 > 0 || (slope0 == 0 && second > 0))) return 0.0;
   // Under gravity every disc reaches the wall: by t_max, |r(t)| >= |g| t^2/2 - |v| t - |r| >=
@@ -315,11 +314,11 @@ double disc_arc_time(const Vec2& r, const Vec2& v, const Vec2& g, double rho, do
     return 0.0;
   }
   // Later contacts: every crossing before t_max (beyond it |r(t)| >= |g| t^2/2 - |v| t - |r| >
-  // outer for good), the earliest on the arc. Moving along the circle (cosine between r and v
-  // below 1e-12) counts as neither approaching nor receding, as in disc_point_time.
+  // outer for good), the earliest on the arc. Moving along the circle (moving_along) counts as
+  // neither approaching nor receding, as in disc_point_time.
   const QuadraticRoots bound = solve_quadratic(0.5 * g.norm(), -v.norm(), -(r.norm() + outer));
   const double t_max = bound.hi;
-  const double slope = B * B <= 1e-24 * C * A ? 0.0 : 2 * B;
+  const double slope = moving_along(B, C, A) ? 0.0 : 2 * B;
   const double second = A + r.dot(g);
   double best = kNever;
   double crossings[4];

@@ -160,13 +160,17 @@ bool inside_pieces(const std::vector<WallShape>& pieces, const Vec2& p) {
     // Split at the highest and lowest points of the circle (angles pi/2 + k pi) inside the arc.
     const double end = piece.start_angle + piece.sweep;
     double from = piece.start_angle;
-    Vec2 u = arc_point(piece, from);
+    const Vec2 first = arc_point(piece, from);
+    Vec2 u = first;
     while (from < end) {
       double to = (std::floor((from - M_PI / 2) / M_PI) + 1) * M_PI + M_PI / 2;  // next split after `from`
       if (to <= from) to += M_PI;
       const bool last = to >= end;
       if (last) to = end;
-      const Vec2 v = last && piece.sweep < 2 * M_PI ? arc_point(piece, end) : arc_point(piece, to);
+      // A whole circle ends exactly where it starts: arc_point(start + 2 pi) differs from it by
+      // rounding, which would leave a band of one ulp in y that the ray crosses once only (a point
+      // there taken for inside an obstacle).
+      const Vec2 v = last ? (piece.sweep >= 2 * M_PI ? first : arc_point(piece, end)) : arc_point(piece, to);
       const double side = std::cos(0.5 * (from + to)) >= 0 ? 1.0 : -1.0;  // right or left half
       cross_piece(u, v, [&] {
         const double dy = p.y() - piece.a.y();

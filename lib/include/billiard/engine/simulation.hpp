@@ -209,8 +209,9 @@ class Simulation {
   // Runs validate() after every event and stops advance() at the first problem (slow, O(N) per
   // event; tests).
   void set_validate_every_event(bool on);
-  // The same checks for the discs each collision changed only (inside the container, off the
-  // walls, in their cells, no overlap with any disc near them, next event not in the past):
+  // The same checks for the discs each event changed only (the discs of a collision, the disc
+  // crossing into a cell: inside the container, off the walls, in their cells, no overlap with
+  // any disc near them, next event not in the past):
   // O(1) per event, for long runs. advance() stops at the first problem. (With
   // set_validate_every_event on as well, the full check runs.)
   void set_check_event_discs(bool on);
@@ -235,7 +236,7 @@ class Simulation {
   // Nothing is half-loaded: the result is made whole or not at all.
   static Simulation from_bytes(std::string_view bytes, const std::string& source = "the data");
   static Simulation load(std::istream& in, const std::string& source = "the stream");
-  static constexpr std::uint32_t kFileFormatVersion = 1;
+  static constexpr std::uint32_t kFileFormatVersion = 2;
 
  private:
   // The disc arrays, the cells, the queue and the event loop, whose type belongs to lib/src

@@ -16,6 +16,12 @@
 
 namespace billiard {
 
+// Moving along a contact up to rounding: the cosine between the offset d and the velocity v is
+// below 1e-12, so the sign of b = d.v is rounding only (a tangential speed 1e29 times the normal
+// one makes b's rounding 1e13 times the normal part). Such motion neither approaches nor
+// recedes; taking it for an approach would collide a pair again and again at one instant.
+inline bool moving_along(double b, double d_squared, double v_squared) { return b * b <= 1e-24 * d_squared * v_squared; }
+
 // Real roots of a t^2 + b t + c = 0 in increasing order (count 0, 1 or 2; a double root is
 // reported twice), computed with the stable form of Numerical Recipes 5.6:
 // q = -(b + sign(b) sqrt(b^2 - 4ac)) / 2, roots q / a and c / q. When a = 0 the equation is
@@ -40,7 +46,7 @@ double first_polynomial_crossing(const double* p, int degree, double t_max, bool
 
 // Two discs with relative position dr = r_i - r_j, relative velocity dv = v_i - v_j and contact
 // distance `contact` = a_i + a_j. Relative motion is linear even under gravity (both discs fall
-// alike). Approaching only if b = dr.dv < 0; then t = c / (-b + sqrt(b^2 - dv.dv c)) with
+// alike). Approaching only if b = dr.dv < 0 (and not moving_along); then t = c / (-b + sqrt(b^2 - dv.dv c)) with
 // c = dr.dr - contact^2 (stable form). A pair that has just collided has c ~ 0, b > 0: never.
 double disc_disc_time(const Vec2& dr, const Vec2& dv, double contact);
 
