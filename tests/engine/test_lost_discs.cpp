@@ -142,3 +142,24 @@ TEST(LostDiscs, HugeUnionOfCirclesUnderHugeGravity) {
     }
   }
 }
+
+// A rough inelastic gas cooling for ever (restitution 0.5, no gravity) reaches speeds whose
+// squares underflow in the times of impact (1e-162 after 1,200 collisions): a disc then passed
+// through the Sinai obstacle. The run must stop, stuck, with a valid state, and stay stopped.
+TEST(LostDiscs, AGasCooledBelowTheTimesOfImpactStopsValid) {
+  Container table = billiard::sinai_billiard(Vec2(0, 0), Vec2(20, 20), 5);
+  table.add_segment(Vec2(1e-50, 4.9406564584124654e-324), Vec2(-1.0356457581396015, 11.328882758487847));
+  table.add_segment(Vec2(0, 3.6400437656281923), Vec2(-15.124859933326603, 5.4112438149963857));
+  Settings settings;
+  settings.restitution = {0.5, -0.0};
+  Simulation sim(table, settings);
+  sim.add_random_discs(2, 0.59870793727314464, 1e20, 1e20, 18244385805452784802ULL);
+  sim.set_check_event_discs(true);
+  const auto result = sim.advance(200000);
+  EXPECT_EQ(sim.last_problem(), std::nullopt);
+  EXPECT_EQ(sim.validate(), std::nullopt);
+  EXPECT_TRUE(result.stuck);
+  EXPECT_NE(result.stuck_reason.find("underflow"), std::string::npos) << result.stuck_reason;
+  EXPECT_TRUE(sim.advance(10).stuck);
+  EXPECT_EQ(sim.validate(), std::nullopt);
+}

@@ -167,6 +167,10 @@ struct Engine {
   // The engine time from which the clock's rounding could misplace a disc by more than
   // kClockBudget of the smallest radius: rebase() then moves the zero to now.
   double rebase_at = kNever;
+  // Without gravity, a moving disc slower than this (squared) makes the squares in the times of
+  // impact underflow; set at the first advance from the smallest radius (see bound_speed).
+  double slowest_squared = 0.0;
+  bool too_slow = false;  // a disc moves slower than that: advance() stops, stuck
   // The running advance()'s start and end, in engine time (a rebase moves them).
   double run_start = 0.0;
   double run_end = kNever;

@@ -250,6 +250,8 @@ void transfer(Io& io, Engine& e) {
   io(e.epoch);
   io(e.speed_bound);
   io(e.rebase_at);
+  io(e.slowest_squared);
+  io(e.too_slow);
   io(e.instant);
   io(e.events_at_instant);
   transfer(io, e.grid);
