@@ -177,11 +177,12 @@ def test_damaged_file_is_refused(saved_file):
 def test_file_of_another_version_is_refused(saved_file):
     data = bytearray(saved_file.read_bytes())
     at = len(b"billiard-simulation\0") + 4  # after the byte-order mark
-    data[at:at + 4] = (7).to_bytes(4, sys.byteorder)
+    this_version = int.from_bytes(data[at:at + 4], sys.byteorder)
+    data[at:at + 4] = (this_version + 5).to_bytes(4, sys.byteorder)
     saved_file.write_bytes(bytes(data))
     message = refusal(saved_file)
-    assert "was written by format version 7 of billiard simulation files" in message, message
-    assert "reads version 1 only" in message and billiard.__version__ in message, message
+    assert f"was written by format version {this_version + 5} of billiard simulation files" in message, message
+    assert f"reads version {this_version} only" in message and billiard.__version__ in message, message
 
 
 def test_foreign_files_are_refused(tmp_path):
