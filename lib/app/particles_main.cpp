@@ -298,7 +298,7 @@ std::string run(const Input& input, const Options& options) {
     }
   }
   std::vector<int> walls(n, 0), others(n, 0);
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   std::int64_t total = 0;
   for (;;) {
     const billiard::AdvanceResult result = sim.advance(kEventsPerChunk, options.end_time - sim.time());

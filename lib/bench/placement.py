@@ -2,7 +2,7 @@
 """How long add_random_discs takes to place N discs (default 10,000 of radius 1) in a periodic box
 at several area fractions, the median of a few seeds each:
 
-    /usr/bin/python3 lib/bench/placement.py [--n 10000] [--fractions 0.3,0.5,0.7,0.8] [--seeds 3]
+    /usr/bin/python3 lib/bench/placement.py [--n 10000] [--fractions 0.3,0.5,0.7,0.8,0.9] [--seeds 3]
 
 It imports the `billiard` package /usr/bin/python3 finds (after ./build.sh python), or the one
 in the folder given by --python (a build's python/ folder). Every placement is checked valid.
@@ -17,7 +17,7 @@ import time
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--n", type=int, default=10000)
-    parser.add_argument("--fractions", default="0.3,0.5,0.7,0.8")
+    parser.add_argument("--fractions", default="0.3,0.5,0.7,0.8,0.9")
     parser.add_argument("--seeds", type=int, default=3)
     parser.add_argument("--python", help="a build's python/ folder to import billiard from")
     arguments = parser.parse_args()

@@ -7,6 +7,7 @@
 
 #include "billiard/engine/replay.hpp"
 #include "billiard/engine/simulation.hpp"
+#include "container_geometry.hpp"  // (the engine's internals: Container.bounds)
 
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
@@ -151,7 +152,7 @@ std::string container_repr(const Container& c) {
 
 // settings.restitution: a number (the normal coefficient; smooth discs) or a pair (normal,
 // tangential). The values are checked by Simulation(...), as in C++.
-Restitution to_restitution(const py::object& value) {
+Restitution to_restitution(const py::object& value, const char* name) {
   const py::array raw = py::array::ensure(value);
   if (real_kind(raw) && (raw.ndim() == 0 || (raw.ndim() == 1 && raw.size() == 2))) {
     const auto array = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(raw);
@@ -160,9 +161,9 @@ Restitution to_restitution(const py::object& value) {
       return Restitution{array.data()[0], array.data()[1]};
     }
   }
-  throw std::invalid_argument(
-      "settings.restitution must be a number (the normal coefficient) or a pair (normal, tangential), got " +
-      short_repr(value));
+  throw std::invalid_argument(std::string(name) +
+                              " must be a number (the normal coefficient) or a pair (normal, tangential), got " +
+                              short_repr(value));
 }
 
 Prefetch to_prefetch(const py::object& value) {
@@ -266,7 +267,7 @@ counter-clockwise from +x.)");
           "bounds",
           [](const Container& c) {
             Vec2 lower, upper;
-            c.bounds(lower, upper);
+            bounds(c, lower, upper);
             return py::make_tuple(pair(lower), pair(upper));
           },
           "((xmin, ymin), (xmax, ymax)): a box holding every place a disc's centre can reach (the periodic\n"
@@ -347,7 +348,7 @@ with the simulation's setters of the same names.)");
                        std::optional<double> sleep_speed, double cell_size, const py::object& prefetch) {
              Settings s;
              s.gravity = to_vec2(gravity, "settings.gravity");
-             s.restitution = to_restitution(restitution);
+             s.restitution = to_restitution(restitution, "settings.restitution");
              s.exchange_velocities = exchange_velocities;
              s.contact_duration = contact_duration;
              s.elastic_impact_speed = elastic_impact_speed;
@@ -368,7 +369,7 @@ with the simulation's setters of the same names.)");
       .def_property(
           "restitution",
           [](const Settings& s) { return py::make_tuple(s.restitution.normal, s.restitution.tangential); },
-          [](Settings& s, const py::object& r) { s.restitution = to_restitution(r); },
+          [](Settings& s, const py::object& r) { s.restitution = to_restitution(r, "settings.restitution"); },
           "Coefficients of restitution (normal, tangential): normal in [0, 1] (1 elastic), tangential in [-1, 1]\n"
           "(-1 smooth, +1 rough); default (1.0, -1.0). A number sets the normal coefficient (tangential -1).");
   plain_field(
@@ -472,9 +473,13 @@ inertia (n,). Bad input raises ValueError naming the argument (and the disc) and
                  (kwargs.empty() ? "" : " " + short_repr(kwargs)));
            }),
            "(Refused with a TypeError saying what Simulation needs.)")
-      .def("set_restitution", &Simulation::set_restitution, py::arg("normal"), py::arg("tangential") = -1.0,
-           "Changes the coefficients of restitution (at first Settings.restitution), also during a run: normal in\n"
-           "[0, 1] (1 elastic), tangential in [-1, 1] (-1 smooth, +1 rough).")
+      .def(
+          "set_restitution",
+          [](Simulation& s, const py::object& r) { s.set_restitution(to_restitution(r, "set_restitution: restitution")); },
+          py::arg("restitution"),
+          "Changes the coefficients of restitution (at first Settings.restitution, and given the same way: a number\n"
+          "for the normal coefficient, or a pair (normal, tangential)), also during a run: normal in [0, 1]\n"
+          "(1 elastic), tangential in [-1, 1] (-1 smooth, +1 rough).")
       .def("set_exchange_velocities", &Simulation::set_exchange_velocities, py::arg("on") = true,
            "Switches the exchange rule (at first Settings.exchange_velocities), also during a run: discs that meet\n"
            "swap their whole velocities (equal masses), walls still reflect only the normal component; the rule of\n"
@@ -500,7 +505,8 @@ inertia (n,). Bad input raises ValueError naming the argument (and the disc) and
            "is 0.")
       .def_property_readonly("sleep_speed", &Simulation::sleep_speed,
                              "The sleep speed in use (chosen at the first advance when automatic).")
-      .def("sleeping_discs", &Simulation::sleeping_discs, "The indices of the discs asleep now.")
+      .def_property_readonly("sleeping_discs", &Simulation::sleeping_discs,
+                             "The indices of the discs asleep now, in increasing order.")
       .def_property_readonly("contact_duration", &Simulation::contact_duration,
                              "The TC model's duration in use (chosen at the first advance when automatic).")
       .def_property_readonly("elastic_impact_speed", &Simulation::elastic_impact_speed,
@@ -583,7 +589,7 @@ inertia (n,). Bad input raises ValueError naming the argument (and the disc) and
           "each disc was wrapped across the periodic box along x and y (+1 at the upper face, -1 at the lower).\n"
           "position + images * container.period is the unwrapped position (for displacements); zeros without a\n"
           "periodic box.")
-      .def("enable_event_log", &Simulation::enable_event_log, py::arg("on") = true,
+      .def("set_log_events", &Simulation::set_log_events, py::arg("on") = true,
            "Record every event (enable before the first advance() to replay).")
       .def("clear_event_log", &Simulation::clear_event_log, "Forget the recorded events (the log keeps recording if enabled).")
       .def_property_readonly(

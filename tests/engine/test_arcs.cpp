@@ -2,7 +2,8 @@
 // a direct numeric search, the arc as a wall of the engine, curved containers (stadium, Sinai
 // billiard, mushroom, union of circles) over many collisions, and the argument checks.
 #include "billiard/engine/simulation.hpp"
-#include "billiard/engine/time_of_impact.hpp"
+#include "time_of_impact.hpp"
+#include "wall_geometry.hpp"
 #include "helpers.hpp"
 
 #include <gtest/gtest.h>
@@ -184,7 +185,7 @@ using engine_test::physics;
 
 // The first event of a one-disc simulation.
 billiard::EventRecord first_event(billiard::Simulation& sim) {
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   const billiard::AdvanceResult result = sim.advance(1);
   EXPECT_EQ(result.collisions, 1);
   EXPECT_EQ(sim.validate(), std::nullopt);
@@ -511,7 +512,7 @@ TEST(ArcWall, FreeArcsUnderGravityWithDiscsPassingTheirGaps) {
   sim.add_random_discs(40, 0.5, 1.0, 4.0, 36);
   const double energy = sim.kinetic_energy() + sim.potential_energy();
   sim.set_validate_every_event(true);
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   const billiard::AdvanceResult result = sim.advance(20000);
   EXPECT_EQ(sim.last_problem(), std::nullopt);
   EXPECT_FALSE(result.stuck) << result.stuck_reason;

@@ -1,5 +1,5 @@
 // Collision rules: hand-checkable impulses and the conservation laws.
-#include "billiard/engine/collide.hpp"
+#include "collide.hpp"
 
 #include <gtest/gtest.h>
 

@@ -96,7 +96,7 @@ TEST(EventLogs, FixedRunsKeepTheirTrajectoriesToTheLastBit) {
   for (const FixedRun& run : runs()) {
     billiard::Simulation sim = run.make();
     sim.add_random_discs(run.discs, run.radius, 1.0, 1.0, ++seed);
-    sim.enable_event_log(true);
+    sim.set_log_events(true);
     sim.advance(kEvents);
     ASSERT_GE(sim.event_log().size(), static_cast<std::size_t>(kEvents) / 2) << run.name;
     const std::uint64_t got = checksum_of(sim.event_log());

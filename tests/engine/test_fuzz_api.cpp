@@ -12,6 +12,7 @@
 //    discs stay finite as it advances.
 #include "billiard/engine/replay.hpp"
 #include "billiard/engine/simulation.hpp"
+#include "container_geometry.hpp"
 #include "helpers.hpp"
 
 #include <gtest/gtest.h>
@@ -828,8 +829,8 @@ Call bad_call(Rng& rng, const Simulation& sim) {
       const double bad = pick(rng, std::vector<double>{kNan, kInf, -kInf, -0.1, 1.5, 1.0000000000000002, -kDenormal, 1e308, -1e308});
       const double tangential_bad = pick(rng, std::vector<double>{kNan, kInf, -kInf, -1.0000000000000002, 1.5, -2.0, 1e308, -1e308});
       const double n = normal ? bad : uniform(rng, 0, 1), t = normal ? uniform(rng, -1, 1) : tangential_bad;
-      return refused("set_restitution(" + show(n) + ", " + show(t) + ")", {normal ? "set_restitution: normal" : "set_restitution: tangential"},
-                     [=](Simulation& s) { s.set_restitution(n, t); }, false);
+      return refused("set_restitution({" + show(n) + ", " + show(t) + "})", {normal ? "set_restitution: restitution.normal" : "set_restitution: restitution.tangential"},
+                     [=](Simulation& s) { s.set_restitution({n, t}); }, false);
     }
     case 5: {
       if (coin(rng)) {
@@ -901,7 +902,7 @@ Call plausible_call(Rng& rng) {
     }
     case 4: {
       const double n = normal_restitution(rng), t = pick(rng, std::vector<double>{-1.0, 1.0, 0.0, -0.0, -kDenormal});
-      return any("set_restitution(" + show(n) + ", " + show(t) + ")", false, [=](Simulation& s) { s.set_restitution(n, t); });
+      return any("set_restitution({" + show(n) + ", " + show(t) + "})", false, [=](Simulation& s) { s.set_restitution({n, t}); });
     }
     case 5: {
       const bool on = coin(rng);
@@ -1152,7 +1153,7 @@ void make_system(Rng& rng, Counts& counts, std::string& history, std::optional<S
 void add_discs(Rng& rng, Simulation& sim, std::string& history) {
   if (integer(rng, 0, 3) > 0) {
     Vec2 lower, upper;
-    sim.container().bounds(lower, upper);
+    bounds(sim.container(), lower, upper);
     const double side = (upper - lower).minCoeff();
     const int n = integer(rng, 0, 30);
     double radius = side * uniform(rng, 0.005, 0.03);
@@ -1175,7 +1176,7 @@ void add_discs(Rng& rng, Simulation& sim, std::string& history) {
   if (integer(rng, 0, 3) == 0) {
     const bool log = coin(rng);
     const std::int64_t events = integer(rng, 0, 200);
-    sim.enable_event_log(log);
+    sim.set_log_events(log);
     sim.advance(events);
     history += std::string(log ? ", event log on" : "") + ", advance(" + std::to_string(events) + ")";
   }
@@ -1453,7 +1454,7 @@ Simulation stress_system(Rng& rng, StressCounts& counts, std::string& history) {
   history += ", gravity " + show(settings.gravity) + ", restitution " + show(settings.restitution.normal) + ", " +
              show(settings.restitution.tangential);
   Vec2 lower, upper;
-  sim.container().bounds(lower, upper);
+  bounds(sim.container(), lower, upper);
   const double side = (upper - lower).minCoeff();
   if (!(side > 1e-30 && side < 1e30)) ++counts.extreme_scales;
   int n = static_cast<int>(std::exp(uniform(rng, 0, std::log(300.0))));
@@ -1472,7 +1473,7 @@ Simulation stress_system(Rng& rng, StressCounts& counts, std::string& history) {
     }
   }
   if (settings.restitution.tangential > -1 && coin(rng)) {  // a disc spinning as fast as allowed
-    Disc d = make_disc(sim.container().wrap(0.5 * (lower + upper) + Vec2(uniform(rng, -0.3, 0.3), uniform(rng, -0.3, 0.3)).cwiseProduct(upper - lower)),
+    Disc d = make_disc(wrap(sim.container(), 0.5 * (lower + upper) + Vec2(uniform(rng, -0.3, 0.3), uniform(rng, -0.3, 0.3)).cwiseProduct(upper - lower)),
                        Vec2::Zero(), radius, mass);
     d.spin = pick(rng, std::vector<double>{1e30, -1e50, 1e50});
     try {

@@ -124,7 +124,7 @@ TEST(Granular, AutomaticValuesAndRefusals) {
   falling.advance(1);
   // sqrt(2 |g| h), h = kRestingBounce mean radii; under gravity the duration is at least
   // 0.01 sqrt(a / |g|).
-  EXPECT_NEAR(falling.elastic_impact_speed(), std::sqrt(2 * 4.0 * billiard::Simulation::kRestingBounce * 2.0), 1e-15);
+  EXPECT_NEAR(falling.elastic_impact_speed(), std::sqrt(2 * 4.0 * billiard::kRestingBounce * 2.0), 1e-15);
   EXPECT_NEAR(falling.contact_duration(), 1e-2 * std::sqrt(2.0 / 4.0), 1e-16);
 }
 
@@ -274,7 +274,7 @@ billiard::Simulation three_disc_channel(std::optional<double> contact_duration) 
   sim.add_disc(make_disc(Vec2(10, 1.1), Vec2(1, 0)));
   sim.add_disc(make_disc(Vec2(12.5, 1.1), Vec2(0, 0)));
   sim.add_disc(make_disc(Vec2(15, 1.1), Vec2(0, 0)));
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   const billiard::AdvanceResult r = sim.advance(1000000, 20.0);
   EXPECT_FALSE(r.stuck) << r.stuck_reason;
   return sim;

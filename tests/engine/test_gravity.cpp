@@ -2,6 +2,7 @@
 // and conservation of kinetic plus potential energy.
 #include "billiard/engine/simulation.hpp"
 #include "helpers.hpp"
+#include "wall_geometry.hpp"
 
 #include <gtest/gtest.h>
 
@@ -23,11 +24,11 @@ TEST(Gravity, FreeFallOntoAFloorBouncesEveryTwoVOverG) {
   // kFixedContactSlack radii lower than touching (h = 20 + 1e-10), which shifts those times by
   // 5e-12 per landing: the test includes it. Tolerance 1e-12: rounding of the quadratic roots
   // accumulates over the bounces.
-  const double h = 20 + billiard::Simulation::kFixedContactSlack;
+  const double h = 20 + billiard::kFixedContactSlack;
   const double v = std::sqrt(2 * 10 * h);
   billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(100, 100)), physics(Vec2(0, -10)));
   sim.add_disc(make_disc(Vec2(50, 21), Vec2(0, 0)));
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.advance(5);
   ASSERT_EQ(sim.event_log().size(), 5u);
   for (int k = 0; k < 5; ++k) {
@@ -41,10 +42,10 @@ TEST(Gravity, DiscDroppedInTheCircularTable) {
   // rim (reach 9) at t = sqrt(2 * 9 / 2) = 3, bounces straight up, is back at the centre at rest
   // at t = 6 and lands again at t = 9: landings every 6. With the fixed contact slack the reach is
   // 9 + 1e-10: t = sqrt(reach), every 2 sqrt(reach).
-  const double reach = 9 + billiard::Simulation::kFixedContactSlack;
+  const double reach = 9 + billiard::kFixedContactSlack;
   billiard::Simulation sim(billiard::circular_table(10), physics(Vec2(0, -2)));
   sim.add_disc(make_disc(Vec2(0, 0), Vec2(0, 0)));
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.advance(3);
   ASSERT_EQ(sim.event_log().size(), 3u);
   EXPECT_NEAR(sim.event_log()[0].time, std::sqrt(reach), 1e-12);
@@ -58,10 +59,10 @@ TEST(Gravity, SidewaysGravityAnyDirection) {
   // reached when 14 = 4 t^2: t = sqrt(3.5) (14 + 1e-10 with the fixed contact slack).
   billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), physics(Vec2(8, 0)));
   sim.add_disc(make_disc(Vec2(5, 10), Vec2(0, 0)));
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.advance(1);
   ASSERT_EQ(sim.event_log().size(), 1u);
-  EXPECT_NEAR(sim.event_log()[0].time, std::sqrt((14 + billiard::Simulation::kFixedContactSlack) / 4), 1e-13);
+  EXPECT_NEAR(sim.event_log()[0].time, std::sqrt((14 + billiard::kFixedContactSlack) / 4), 1e-13);
 }
 
 namespace {

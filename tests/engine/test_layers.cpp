@@ -2,11 +2,11 @@
 // (billiard/course.hpp), so an engine user gets neither its names nor its <random> and
 // <filesystem>. If one did, the declarations below would clash with the course's and this file
 // would not compile.
-#include "billiard/engine/collide.hpp"
+#include "collide.hpp"
 #include "billiard/engine/disc.hpp"
 #include "billiard/engine/replay.hpp"
 #include "billiard/engine/simulation.hpp"
-#include "billiard/engine/time_of_impact.hpp"
+#include "time_of_impact.hpp"
 #include "billiard/engine/vec2.hpp"
 #include "billiard/engine/wall.hpp"
 
@@ -28,7 +28,7 @@ TEST(Layers, EngineHeadersWorkWithoutTheCourse) {
   billiard::Disc disc;
   disc.velocity = {2.0, 0.0};
   sim.add_disc(disc);
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.advance(1);
   ASSERT_EQ(sim.event_log().size(), 1u);
   const billiard::EventRecord& hit = sim.event_log()[0];

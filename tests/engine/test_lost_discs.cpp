@@ -95,7 +95,8 @@ TEST(LostDiscs, LongPeriodicRunsKeepTheirPlace) {
   EXPECT_EQ(sim.validate(), std::nullopt) << "after " << result.cell_crossings << " cell crossings";
   const billiard::State state = sim.current_state();
   const billiard::Images images = sim.images();
-  const Vec2 unwrapped(state.positions(0, 0) + images(0, 0) * period.x(), state.positions(0, 1) + images(0, 1) * period.y());
+  const Vec2 unwrapped(state.positions(0, 0) + static_cast<double>(images(0, 0)) * period.x(),
+                      state.positions(0, 1) + static_cast<double>(images(0, 1)) * period.y());
   EXPECT_LT((unwrapped - (start + duration * velocity)).norm(), 1e-9 * duration) << "unwrapped (" << unwrapped.x() << ", "
                                                                                   << unwrapped.y() << ")";
 }

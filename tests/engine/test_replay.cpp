@@ -29,7 +29,7 @@ billiard::Simulation logged_run(bool periodic) {
     return p.x() >= a && p.x() <= 20 - a && p.y() >= a && p.y() <= 20 - a;
   });
   engine_test::add_all(sim, discs);
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.advance(300);
   return sim;
 }
@@ -88,7 +88,7 @@ TEST(Replay, ATwoDiscHeadOnRunByHand) {
   b.velocity = Vec2(-1, 0);
   sim.add_disc(a);
   sim.add_disc(b);
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.advance(3);
   billiard::Replay replay(sim);
   const billiard::State first = replay.after_next_event();

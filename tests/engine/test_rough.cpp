@@ -26,7 +26,7 @@ TEST(Rough, UnequalMassesHeadOn) {
   billiard::Simulation sim(billiard::box(Vec2(-20, -20), Vec2(20, 20)));
   sim.add_disc(make_disc(Vec2(-5, 0), Vec2(2, 0), 1.0, 1.0));
   sim.add_disc(make_disc(Vec2(5, 0), Vec2(0, 0), 1.0, 3.0));
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.advance(1);
   ASSERT_EQ(sim.event_log().size(), 1u);
   EXPECT_DOUBLE_EQ(sim.event_log()[0].time, 4.0);
@@ -40,7 +40,7 @@ TEST(Rough, UnequalRadiiMeetAtTheSumOfRadii) {
   billiard::Simulation sim(billiard::box(Vec2(-20, -20), Vec2(20, 20)));
   sim.add_disc(make_disc(Vec2(0, 0), Vec2(1, 0), 0.5));
   sim.add_disc(make_disc(Vec2(10, 0), Vec2(-2, 0), 2.0));
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.advance(1);
   ASSERT_EQ(sim.event_log().size(), 1u);
   EXPECT_DOUBLE_EQ(sim.event_log()[0].time, 2.5);
@@ -119,7 +119,7 @@ TEST(Exchange, ObliqueEqualDiscsSwapWholeVelocitiesExactly) {
   billiard::Simulation sim(billiard::box(Vec2(-20, -20), Vec2(20, 20)), exchanging());
   sim.add_disc(make_disc(Vec2(0, 0), Vec2(1, 0.5), 1.0));
   sim.add_disc(make_disc(Vec2(3, 0), Vec2(-1, 0.25), 1.0));
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.advance(1);
   ASSERT_EQ(sim.event_log().size(), 1u);
   const auto& hit = sim.event_log()[0];
@@ -130,7 +130,7 @@ TEST(Exchange, ObliqueEqualDiscsSwapWholeVelocitiesExactly) {
 TEST(Exchange, WallsStillReflectOnlyTheNormalComponent) {
   billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(10, 10)), exchanging());
   sim.add_disc(make_disc(Vec2(5, 5), Vec2(2, 1), 1.0));
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.advance(1);  // the wall x = 10 at t = 2
   ASSERT_EQ(sim.event_log().size(), 1u);
   EXPECT_DOUBLE_EQ(sim.event_log()[0].time, 2.0);

@@ -37,7 +37,7 @@ billiard::Simulation make(const Setup& setup, std::uint64_t seed, int n, double 
     return p.x() >= a && p.x() <= side - a && p.y() >= a && p.y() <= side - a;
   });
   engine_test::add_all(sim, discs);
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   return sim;
 }
 
@@ -88,8 +88,8 @@ TEST(Sectors, SameStatisticsAfterChaosTakesOver) {
   // several standard errors.
   billiard::Simulation a = make({true, 50.0 / 3}, 4, 300, 50);
   billiard::Simulation b = make({true, 0}, 4, 300, 50);
-  a.enable_event_log(false);
-  b.enable_event_log(false);
+  a.set_log_events(false);
+  b.set_log_events(false);
   a.advance(300000);
   b.advance(300000);
   const double rate_a = 300000 / a.time(), rate_b = 300000 / b.time();
@@ -106,7 +106,7 @@ TEST(Sectors, ThreeDiscsTouchingAtOnce) {
   sim.add_disc(make_disc(Vec2(-3, 0), Vec2(1, 0)));
   sim.add_disc(make_disc(Vec2(0, 0), Vec2(0, 0)));
   sim.add_disc(make_disc(Vec2(3, 0), Vec2(-1, 0)));
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.set_validate_every_event(true);
   sim.advance(billiard::kAllEvents, 5.0);
   EXPECT_EQ(sim.last_problem(), std::nullopt);

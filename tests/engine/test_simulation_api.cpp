@@ -65,8 +65,8 @@ TEST(Api, BadDiscsAreRefusedNamingTheDiscAndTheValue) {
 
 TEST(Api, BadSettingsAreRefusedAndChangeNothing) {
   billiard::Simulation sim = two_discs();
-  expect_refused([&] { sim.set_restitution(1.5); }, {"set_restitution: normal", "1.5"});
-  expect_refused([&] { sim.set_restitution(1.0, -2.0); }, {"set_restitution: tangential", "-2"});
+  expect_refused([&] { sim.set_restitution({1.5}); }, {"set_restitution: restitution.normal", "1.5"});
+  expect_refused([&] { sim.set_restitution({1.0, -2.0}); }, {"set_restitution: restitution.tangential", "-2"});
   expect_refused([&] { sim.set_contact_duration(-1.0); }, {"set_contact_duration: duration", "-1"});
   expect_refused([&] { sim.set_elastic_impact_speed(std::nan("")); }, {"set_elastic_impact_speed: speed", "nan"});
   expect_refused([&] { sim.set_sleep_speed(-2.0); }, {"set_sleep_speed: speed", "-2"});
@@ -262,7 +262,7 @@ TEST(Api, SetupIsFixedAfterTheFirstAdvance) {
   EXPECT_THROW(sim.add_discs(positions, velocities, 0.5), std::logic_error);
   EXPECT_THROW(sim.add_random_discs(1, 0.5), std::logic_error);
   EXPECT_EQ(sim.size(), 2);
-  sim.set_restitution(0.9);  // allowed at any time
+  sim.set_restitution({0.9});  // allowed at any time
   EXPECT_EQ(sim.advance(5).collisions, 5);
 }
 
@@ -312,7 +312,7 @@ TEST(Api, ReplayReproducesTheRunByEventAndAtFixedTimeSteps) {
     return p.x() >= a && p.x() <= 20 - a && p.y() >= a && p.y() <= 20 - a;
   });
   engine_test::add_all(sim, discs);
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   const billiard::State start = sim.initial_state();
   sim.advance(500);
   const billiard::State after500 = sim.current_state();

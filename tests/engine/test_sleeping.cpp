@@ -43,7 +43,7 @@ TEST(Sleeping, DiscAtRestOnAFloorHopsAtTheSlackScale) {
   // s = 1e-10 radii, and bounces back up as high: one landing every 2 sqrt(2 s / g) = 2.83e-5,
   // the first after half of that. Before the slack it met the floor again at once, for ever.
   billiard::Simulation sim = one_disc(Vec2(20, 1), Vec2(0, 0), 1.0);
-  const double period = 2 * std::sqrt(2 * billiard::Simulation::kFixedContactSlack);
+  const double period = 2 * std::sqrt(2 * billiard::kFixedContactSlack);
   const double duration = 0.01;
   const billiard::AdvanceResult r = sim.advance(kAllEvents, duration);
   ASSERT_FALSE(r.stuck) << r.stuck_reason;
@@ -59,7 +59,7 @@ TEST(Sleeping, DiscSlidingAlongAFloorReachesTheWall) {
   // x = 39 (less the slack) at t = 19, hopping at the slack scale on the way (it used to stall
   // at t = 0). Tolerance 1e-6: its hops add nothing to its horizontal motion.
   billiard::Simulation sim = one_disc(Vec2(20, 1), Vec2(1, 0), 1.0);
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   double hit = -1;
   while (hit < 0 && sim.time() < 20) {
     const billiard::AdvanceResult r = sim.advance(100000, 20.0 - sim.time());
@@ -79,7 +79,7 @@ TEST(Sleeping, BouncingDiscComesToRestAndFallsAsleep) {
   // where it is (no higher than the island gap, a tenth of its radius, above the floor) and costs
   // no events from then on. Its energy only ever went down.
   billiard::Simulation sim = one_disc(Vec2(20, 2), Vec2(0, 0), 0.5);
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   double energy = total_energy(sim);
   for (int step = 0; step < 10; ++step) {
     const billiard::AdvanceResult r = sim.advance(kAllEvents, 1.0);
@@ -87,7 +87,7 @@ TEST(Sleeping, BouncingDiscComesToRestAndFallsAsleep) {
     ASSERT_LE(total_energy(sim), energy + 1e-12);
     energy = total_energy(sim);
   }
-  EXPECT_EQ(sim.sleep_speed(), std::sqrt(2 * billiard::Simulation::kRestingBounce));
+  EXPECT_EQ(sim.sleep_speed(), std::sqrt(2 * billiard::kRestingBounce));
   ASSERT_EQ(sim.sleeping_discs(), std::vector<int>{0});
   const billiard::State s = sim.current_state();
   EXPECT_EQ(s.velocities(0, 1), 0.0);
@@ -107,7 +107,7 @@ billiard::Simulation disc_thrown_onto_a_sleeper() {
   billiard::Simulation sim = falling(0.5);
   sim.add_disc(make_disc(Vec2(10, 1), Vec2(0, 0)));
   sim.add_disc(make_disc(Vec2(10, 3.5), Vec2(0, 2)));
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.advance(kAllEvents, 4.0);
   return sim;
 }

@@ -4,6 +4,7 @@
 // table, a periodic box under gravity, a granular bed with sleeping discs and rough discs of
 // unequal sizes; damaged and foreign data is refused with a message saying what is wrong.
 #include "billiard/engine/simulation.hpp"
+#include "container_geometry.hpp"
 #include "helpers.hpp"
 
 #include <gtest/gtest.h>
@@ -81,7 +82,7 @@ void expect_same_future(Simulation& original, std::int64_t events, double durati
 TEST(Snapshot, TableContinuesBitForBit) {
   Simulation sim(billiard::circular_table(20));
   sim.add_random_discs(80, 1.0, 1.0, 1.0, 3);
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.advance(3000);
   expect_same_future(sim, 2000, 5.0);
 }
@@ -91,7 +92,7 @@ TEST(Snapshot, PeriodicBoxWithGravityContinuesBitForBit) {
   settings.gravity = Vec2(0.2, -0.3);
   Simulation sim(billiard::periodic_box(30, 24), settings);
   sim.add_random_discs(60, 1.0, 1.0, 1.0, 5);
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.advance(4000);
   ASSERT_GT(sim.images().cwiseAbs().sum(), 0) << "no disc has wrapped yet: the image counts go untested";
   expect_same_future(sim, 2000, 3.0);
@@ -103,7 +104,7 @@ TEST(Snapshot, GranularBedWithSleepingDiscsContinuesBitForBit) {
   settings.restitution.normal = 0.5;
   Simulation sim(billiard::box(Vec2(0, 0), Vec2(40, 40)), settings);
   sim.add_random_discs(120, 1.0, 1.0, 2.0, 11);
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   // (Its first discs fall asleep near t = 3.2, and wake again; the whole bed sleeps from t = 27.)
   while (sim.sleeping_discs().empty() && sim.time() < 20) sim.advance(kAllEvents, 0.1);
   ASSERT_GE(sim.sleeping_discs().size(), 1u) << "the bed should have sleeping discs when it is saved";
@@ -121,7 +122,7 @@ TEST(Snapshot, RoughDiscsOfUnequalSizesContinueBitForBit) {
   // (With seed 17 the cooled gas ends stuck: a slow disc grazing the inside of the arc, lib/DESIGN.md.)
   std::mt19937_64 rng(18);
   const auto inside = [&](const Vec2& p, double a) {
-    return table.outside(p, a, 0.0).empty() && !table.overlapped_wall(p, a, 0.0);
+    return outside(table, p, a, 0.0).empty() && !overlapped_wall(table, p, a, 0.0);
   };
   const engine_test::RandomDiscs discs = engine_test::random_discs(rng, 50, 0.4, 1.2, Vec2(0, 0), Vec2(40, 30), inside);
   ASSERT_EQ(discs.positions.size(), 50u);
@@ -132,7 +133,7 @@ TEST(Snapshot, RoughDiscsOfUnequalSizesContinueBitForBit) {
     if (k % 2 == 0) disc.inertia = 0.3 * disc.mass * disc.radius * disc.radius;
     sim.add_disc(disc);
   }
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.advance(3000);
   expect_same_future(sim, 2000, 5.0);
 }
@@ -147,7 +148,7 @@ TEST(Snapshot, SavedBeforeTheFirstAdvanceTakesMoreDiscs) {
   EXPECT_THROW(loaded.add_disc(engine_test::make_disc(taken, Vec2(0, 0))), std::invalid_argument);
   for (Simulation* s : {&sim, &loaded}) {
     s->add_random_discs(20, 0.5, 2.0, 1.0, 9);
-    s->enable_event_log(true);
+    s->set_log_events(true);
     s->advance(2000);
   }
   expect_same_logs(sim.event_log(), loaded.event_log());
@@ -226,7 +227,7 @@ Simulation small_run() {
   settings.restitution.normal = 0.7;
   Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), settings);
   sim.add_random_discs(30, 1.0, 1.0, 1.0, 4);
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.advance(500);
   return sim;
 }

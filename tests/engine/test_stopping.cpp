@@ -23,7 +23,7 @@ namespace {
 billiard::Simulation gas() {
   billiard::Simulation sim(billiard::periodic_box(60, 60));
   sim.add_random_discs(500, 1.0, 1.0, 1.0, 7);
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   return sim;
 }
 
@@ -35,7 +35,7 @@ billiard::Simulation granular_bed() {
   settings.restitution = {0.8, 0.5};
   billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(40, 40)), settings);
   sim.add_random_discs(200, 1.0, 1.0, 1.0, 3);
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   return sim;
 }
 
@@ -125,7 +125,7 @@ TEST(Stopping, ManyStopsInOneRunChangeNothing) {
 TEST(Stopping, RequestStopFromAnotherThreadStopsARunningAdvance) {
   using Clock = std::chrono::steady_clock;
   billiard::Simulation sim = gas();
-  sim.enable_event_log(false);
+  sim.set_log_events(false);
   sim.advance(100);
   // The run reports its progress, so that the request comes while it runs (and, should
   // request_stop fail, gives up after a minute rather than run for ever).
@@ -162,7 +162,7 @@ TEST(Stopping, RequestStopFromAnotherThreadStopsARunningAdvance) {
 TEST(Stopping, RequestStopStopsARunWithoutACheck) {
   using Clock = std::chrono::steady_clock;
   billiard::Simulation sim = gas();
-  sim.enable_event_log(false);
+  sim.set_log_events(false);
   sim.advance(100);
   std::atomic<Clock::rep> requested_at{0};
   std::thread stopper([&] {

@@ -30,7 +30,7 @@ TEST(Table, OneDiscBouncesAcrossTheCentre) {
   // (18) every 9 time units: 4.5, 13.5, 22.5. Exact in binary: compared with EXPECT_DOUBLE_EQ.
   billiard::Simulation sim(billiard::circular_table(10));
   sim.add_disc(make_disc(Vec2(0, 0), Vec2(2, 0)));
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   const auto result = sim.advance(3);
   EXPECT_EQ(result.collisions, 3);
   ASSERT_EQ(sim.event_log().size(), 3u);
@@ -47,7 +47,7 @@ TEST(Table, TwoDiscsHeadOn) {
   billiard::Simulation sim(billiard::circular_table(10));
   sim.add_disc(make_disc(Vec2(-5, 0), Vec2(1, 0)));
   sim.add_disc(make_disc(Vec2(5, 0), Vec2(-1, 0)));
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.advance(3);
   const auto& log = sim.event_log();
   ASSERT_EQ(log.size(), 3u);
@@ -121,7 +121,7 @@ TEST(Table, SameFirstTwentyEventsAsTheCoursePropagate) {
       velocities.row(i) = discs.velocities[i].transpose();
       sim.add_disc(make_disc(discs.positions[i], discs.velocities[i], a));
     }
-    sim.enable_event_log(true);
+    sim.set_log_events(true);
     sim.advance(20);
     ASSERT_EQ(sim.event_log().size(), 20u);
     double time = 0;

@@ -1,5 +1,5 @@
 // Time-of-impact solvers: cases a person can check by hand, and the rounding conventions.
-#include "billiard/engine/time_of_impact.hpp"
+#include "time_of_impact.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,7 @@
 // Stage 3: straight walls with end points, boxes, polygons and the periodic box.
 #include "billiard/engine/simulation.hpp"
 #include "helpers.hpp"
+#include "wall_geometry.hpp"
 
 #include <gtest/gtest.h>
 
@@ -17,7 +18,7 @@ TEST(Walls, CornerHitReversesBothComponentsAtOnce) {
   // velocity (-1, -1); the opposite corner (1, 1) is reached at t = 12.
   billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(10, 10)));
   sim.add_disc(make_disc(Vec2(5, 5), Vec2(1, 1)));
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.set_validate_every_event(true);
   sim.advance(4);
   EXPECT_EQ(sim.last_problem(), std::nullopt);
@@ -40,7 +41,7 @@ TEST(Walls, FreeEndOfASegmentIsAnObstacle) {
   room.add_segment(Vec2(0, 0), Vec2(0, -10));
   billiard::Simulation sim(room);
   sim.add_disc(make_disc(Vec2(-5, 0.6), Vec2(1, 0)));
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.advance(1);
   ASSERT_EQ(sim.event_log().size(), 1u);
   const auto& e = sim.event_log()[0];
@@ -59,7 +60,7 @@ TEST(Walls, DiscBouncesOffBothFacesOfASegment) {
   const int segment = room.add_segment(Vec2(0, -5), Vec2(0, 5));
   billiard::Simulation sim(room);
   sim.add_disc(make_disc(Vec2(-4, 0), Vec2(1, 0)));
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.advance(2);
   ASSERT_EQ(sim.event_log().size(), 2u);
   EXPECT_DOUBLE_EQ(sim.event_log()[0].time, 3.0);
@@ -122,7 +123,7 @@ TEST(Periodic, CollisionAcrossTheBoundary) {
   billiard::Simulation sim(billiard::periodic_box(12, 12));
   sim.add_disc(make_disc(Vec2(1, 6), Vec2(-1, 0)));
   sim.add_disc(make_disc(Vec2(9, 6), Vec2(1, 0)));
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   sim.advance(1);
   ASSERT_EQ(sim.event_log().size(), 1u);
   EXPECT_DOUBLE_EQ(sim.event_log()[0].time, 1.0);

@@ -3,8 +3,8 @@
 // comparison of a student's step with it.
 //
 // The library is an independent implementation of the same physics, with one documented
-// difference: under gravity it lets a circle meet the table wall kFixedContactSlack = 1e-10 of
-// its radius beyond touching (Simulation::kFixedContactSlack), so that a circle resting on the
+// difference: under gravity it lets a circle meet the table wall billiard::kFixedContactSlack
+// = 1e-10 of its radius beyond touching (settings.hpp), so that a circle resting on the
 // wall cannot bounce for ever at one instant. A wall hit there happens a time
 // dt = 1e-10 a / v_n later (v_n the normal speed at contact), which moves every circle by up to
 // v dt and turns the wall normal a little. The comparison allows for twice these first-order
@@ -122,7 +122,7 @@ inline LibraryStep library_step(const GravityTable& t) {
     const Points positions = t.c;
     const Points velocities = t.v;
     sim.add_discs(positions, velocities, t.a);
-    sim.enable_event_log(true);
+    sim.set_log_events(true);
     const AdvanceResult result = sim.advance(1);
     if (result.collisions != 1 || sim.event_log().empty()) {
       s.problem = text("the library found no event (", result.stuck_reason, ")");
@@ -146,7 +146,7 @@ inline LibraryStep library_step(const GravityTable& t) {
 // 1e-10 a over the normal speed.
 inline double slack_delay(double a, const Coordinates& c, const Velocities& v, int i) {
   const double normal_speed = std::abs(v.row(i).dot(c.row(i).normalized()));
-  return Simulation::kFixedContactSlack * a / std::max(normal_speed, 1e-300);
+  return kFixedContactSlack * a / std::max(normal_speed, 1e-300);
 }
 
 // Compares the student's step (got, leading from `before` to `after`) with the library's from

@@ -20,7 +20,7 @@
 // touching under gravity; the comparison with it allows for that (see gravity_support.hpp).
 #include "gravity_support.hpp"
 
-#include "billiard/engine/time_of_impact.hpp"
+#include "time_of_impact.hpp"
 #include "billiard/extensions.hpp"
 #include "support/fixtures.hpp"
 #include "support/graded.hpp"

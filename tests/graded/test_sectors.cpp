@@ -381,7 +381,7 @@ GRADED_TEST(Sectors, AgreesWithTheLibraryOnLargeTables, 2, after_due_date) {
     const Velocities v = billiard::testing::gaussian_velocities(n, 5100 + static_cast<std::uint64_t>(k));
     billiard::Simulation sim(billiard::circular_table(R));
     sim.add_discs(c, v, a);
-    sim.enable_event_log(true);
+    sim.set_log_events(true);
     sim.advance(1);
     const billiard::EventRecord& e = sim.event_log().front();
     const int other = e.other >= 0 && e.wall == billiard::kNoWall ? e.other : kWall;

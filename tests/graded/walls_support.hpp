@@ -168,7 +168,7 @@ inline Simulation library_simulation(const WallTable& t) {
   const Points positions = t.c;
   const Points velocities = t.v;
   sim.add_discs(positions, velocities, t.a);
-  sim.enable_event_log(true);
+  sim.set_log_events(true);
   return sim;
 }
 

@@ -21,7 +21,7 @@ def test_disc_through_the_gap_meets_the_inside_of_an_arc_at_time_12_5():
     arc = container.add_arc((0, 0), 5.0, 0.0, math.pi)
     sim = billiard.Simulation(container)
     sim.add_disc((0.0, -8.0), (0.0, 1.0), radius=0.5)
-    sim.enable_event_log(True)
+    sim.set_log_events(True)
     sim.advance(events=1)
     log = sim.event_log
     assert log["wall"][0] == arc

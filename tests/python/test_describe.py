@@ -6,7 +6,9 @@ and the copies (a simulation keeps its own container and settings)."""
 
 import copy
 import math
+import pathlib
 import pickle
+import re
 
 import numpy as np
 import pytest
@@ -339,7 +341,7 @@ def test_the_simulation_uses_the_settings_and_keeps_a_copy():
     assert sim.contact_duration == 0.5 and sim.elastic_impact_speed == 0.25 and sim.sleep_speed == 0.125
     sim.set_restitution(0.75)  # the setters still change them during a run
     assert sim.restitution == (0.75, -1.0)
-    with pytest.raises(ValueError, match=r"set_restitution: normal must be in \[0, 1\]"):
+    with pytest.raises(ValueError, match=r"set_restitution: restitution.normal must be in \[0, 1\]"):
         sim.set_restitution(2.0)
     default = billiard.Simulation(billiard.box((0, 0), (10, 10)), None)
     assert default.gravity == (0.0, 0.0) and default.restitution == (1.0, -1.0) and default.exchange_velocities is False
@@ -352,10 +354,10 @@ def test_settings_give_the_same_run_as_the_setters_before_any_disc():
             sim = billiard.Simulation(container, billiard.Settings(restitution=(0.9, 0.5), contact_duration=1e-3))
         else:
             sim = billiard.Simulation(container)
-            sim.set_restitution(0.9, 0.5)
+            sim.set_restitution((0.9, 0.5))
             sim.set_contact_duration(1e-3)
         sim.add_random_discs(30, 0.5, seed=4)
-        sim.enable_event_log(True)
+        sim.set_log_events(True)
         sim.advance(events=2000)
         return sim.event_log
 
@@ -373,3 +375,29 @@ def test_simulation_walls_takes_a_simulation_or_a_container():
     assert bp.simulation_walls(container) == bp.simulation_walls(sim)
     assert len(bp.simulation_walls(container)["arcs"]) == 2
     assert bp.simulation_walls(billiard.circular_table(3.0))["table_radius"] == 3.0
+
+
+# ---- One rule for the names' form ------------------------------------------------------------------
+
+# Getters of the C++ Simulation that compute rather than hold, methods in Python as well.
+COMPUTED = {"kinetic_energy", "potential_energy", "memory_bytes", "to_bytes"}
+# Getters that Python reaches another way.
+ELSEWHERE = {"size": "len(sim)", "radii": "current_state['radius']", "masses": "current_state['mass']",
+             "inertias": "current_state['inertia']", "cell_count": "the engine's tuning, C++ only",
+             "last_problem": "validate() returns it"}
+
+
+def test_what_a_simulation_holds_is_a_property_and_what_it_computes_a_method():
+    header = pathlib.Path(__file__).resolve().parents[2] / "lib/include/billiard/engine/simulation.hpp"
+    getters = re.findall(r"^\s+[\w:<>&,\s]+?\b(\w+)\(\) const;", header.read_text(), re.MULTILINE)
+    assert {"time", "contact_duration", "sleeping_discs", "kinetic_energy"} <= set(getters), getters
+    for name in getters:
+        if name in ELSEWHERE:
+            assert not hasattr(billiard.Simulation, name), f"{name} is bound: take it out of ELSEWHERE"
+            continue
+        attribute = getattr(billiard.Simulation, name, None)
+        assert attribute is not None, f"Simulation::{name}() has no Python counterpart"
+        if name in COMPUTED:
+            assert not isinstance(attribute, property), f"{name} computes: a method, as in C++"
+        else:
+            assert isinstance(attribute, property), f"{name} is held by the simulation: a property in Python"

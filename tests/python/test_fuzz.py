@@ -134,7 +134,7 @@ def _gravity():
 def _started():
     sim = billiard.Simulation(billiard.box((0.0, 0.0), (20.0, 20.0)))
     sim.add_random_discs(30, 0.5, seed=6)
-    sim.enable_event_log(True)
+    sim.set_log_events(True)
     sim.advance(events=200)
     return sim
 
@@ -142,7 +142,7 @@ def _started():
 def _rough_periodic_started():
     sim = billiard.Simulation(billiard.periodic_box(15.0, 15.0), billiard.Settings(restitution=(0.9, 0.5)))
     sim.add_random_discs(25, 0.5, seed=7)
-    sim.enable_event_log(True)
+    sim.set_log_events(True)
     sim.advance(events=100)
     return sim
 
@@ -183,7 +183,7 @@ def snapshot(sim):
         "totals": sim.totals, "event_log": sim.event_log, "kinetic_energy": sim.kinetic_energy(),
         "potential_energy": sim.potential_energy(), "contact_duration": sim.contact_duration,
         "elastic_impact_speed": sim.elastic_impact_speed, "sleep_speed": sim.sleep_speed,
-        "sleeping_discs": sim.sleeping_discs(),
+        "sleeping_discs": sim.sleeping_discs,
     })
 
 
@@ -225,14 +225,25 @@ def array_argument(rng, rows=3):
     return array, "value"
 
 
+def bad_restitution(rng):
+    """A bad value for Settings.restitution and set_restitution: (value, kind, names)."""
+    choice = rng.randrange(3)
+    if choice == 0:
+        return rng.choice(["0.9", None, [1.0, 2.0, 3.0], [], True, object(), 1j, Unreadable(), [0.5, None],
+                           np.array([True, False]), (0.9, (1.0,))]), "convert", ["settings.restitution"]
+    if choice == 1:
+        normal = rng.choice([NAN, INF, -INF, -0.1, 1.5, 1.0000000000000002, -DENORMAL, 1e308])
+        return rng.choice([normal, (normal, -1.0), np.array([normal, 0.5])]), "value", ["settings.restitution.normal"]
+    tangential = rng.choice([NAN, INF, -INF, -1.0000000000000002, 1.5, -2.0, 1e308])
+    return (0.9, tangential), "value", ["settings.restitution.tangential"]
+
+
 def bad_simulation_call(rng, start):
     choice = rng.randrange(9)
-    if choice == 0:
-        if rng.random() < 0.5:
-            n, kind = float_argument(rng, [NAN, INF, -INF, -0.1, 1.5, 1.0000000000000002, -DENORMAL, 1e308])
-            return call(f"set_restitution({n!r})", lambda s: s.set_restitution(n), kind, "normal", setup=False)
-        t, kind = float_argument(rng, [NAN, INF, -INF, -1.0000000000000002, 1.5, -2.0, 1e308])
-        return call(f"set_restitution(0.9, {t!r})", lambda s: s.set_restitution(0.9, t), kind, "tangential", setup=False)
+    if choice == 0:  # (given as Settings.restitution is: a number or a pair)
+        value, kind, names = bad_restitution(rng)
+        return call(f"set_restitution({value!r})", lambda s: s.set_restitution(value), kind,
+                    [name.replace("settings.", "set_restitution: ") for name in names], setup=False)
     if choice in (1, 2):
         return bad_disc(rng, start)
     if choice == 3:
@@ -368,7 +379,7 @@ def plausible_simulation_call(rng):
                     "either", [])
     if choice == 4:
         normal, tangential = rng.choice([0.0, 1e-3, 0.5, 0.9, 1.0]), rng.choice([-1.0, 0.0, -0.0, 1.0])
-        return call(f"set_restitution({normal!r}, {tangential!r})", lambda s: s.set_restitution(normal, tangential),
+        return call(f"set_restitution(({normal!r}, {tangential!r}))", lambda s: s.set_restitution((normal, tangential)),
                     "either", [], setup=False)
     events, duration = rng.choice([None, 0, 1, 50]), rng.choice([None, 0.0, -0.0, DENORMAL, 0.5, INF])
     if events is None and (duration is None or duration == INF):  # (no limit at all would never end)
@@ -694,16 +705,8 @@ def bad_settings_value(rng):
         value, kind = point_argument(rng)
         return field, value, kind, "settings.gravity"
     if field == "restitution":
-        choice = rng.randrange(3)
-        if choice == 0:
-            return field, rng.choice(["0.9", None, [1.0, 2.0, 3.0], [], True, object(), 1j, Unreadable(), [0.5, None],
-                                      np.array([True, False])]), "convert", "settings.restitution"
-        if choice == 1:
-            normal = rng.choice([NAN, INF, -INF, -0.1, 1.5, 1.0000000000000002, -DENORMAL, 1e308])
-            return field, rng.choice([normal, (normal, -1.0), np.array([normal, 0.5])]), "value", \
-                "settings.restitution.normal"
-        tangential = rng.choice([NAN, INF, -INF, -1.0000000000000002, 1.5, -2.0, 1e308])
-        return field, (0.9, tangential), "value", "settings.restitution.tangential"
+        value, kind, names = bad_restitution(rng)
+        return field, value, kind, names[0]
     if field == "exchange_velocities":
         return field, rng.choice(["yes", [True], object()]), "type", field  # (pybind11 takes numbers, None as False)
     if field == "prefetch":

@@ -87,7 +87,7 @@ def test_a_bed_in_a_box_exactly_20_discs_wide_falls_asleep():
     # every disc is asleep by t = 100 and the bed costs no events.
     sim = falling_bed(0.5)
     sim.advance(time=100)
-    assert sim.sleeping_discs() == list(range(200))
+    assert sim.sleeping_discs == list(range(200))
     assert (sim.current_state["velocity"] == 0).all()
     result = sim.advance(time=10)
     assert result["collisions"] == 0 and sim.time == pytest.approx(110)
@@ -96,9 +96,9 @@ def test_a_bed_in_a_box_exactly_20_discs_wide_falls_asleep():
 
 def test_sleeping_is_in_the_event_log_and_the_replay_keeps_sleepers_still():
     sim = falling_bed(0.5, table=True)
-    sim.enable_event_log(True)
+    sim.set_log_events(True)
     sim.advance(time=100)
-    assert len(sim.sleeping_discs()) == 200
+    assert len(sim.sleeping_discs) == 200
     log = sim.event_log
     assert billiard.SLEEP in set(log["kind"].tolist())
     assert set(log["other"][log["kind"] == billiard.SLEEP].tolist()) == {-2}
@@ -107,6 +107,6 @@ def test_sleeping_is_in_the_event_log_and_the_replay_keeps_sleepers_still():
     assert last["time"] == pytest.approx(100)
     assert last["position"] == pytest.approx(sim.current_state["position"], abs=1e-12)
     sim.set_sleep_speed(0)  # wakes them all
-    assert sim.sleeping_discs() == []
+    assert sim.sleeping_discs == []
     assert billiard.WAKE in set(sim.event_log["kind"].tolist())
     assert sim.validate() is None

@@ -24,17 +24,36 @@ def run(command, **options):
     return done.stdout
 
 
+FRAGMENTS_HEAD = """#include "billiard/engine/simulation.hpp"
+#include "billiard/stepping/stepper.hpp"
+
+#include <chrono>
+#include <thread>
+
+"""
+
+
 @pytest.mark.skipif(not BUILD, reason="BILLIARD_BUILD names no build folder (CTest sets it)")
 def test_find_package_builds_the_guides_example_outside_the_repository(tmp_path):
     run(["cmake", "--install", BUILD, "--prefix", str(tmp_path / "prefix")])
-    program = next(block for block in re.findall(r"```cpp\n(.*?)```", README.read_text(), flags=re.S)
-                   if "int main()" in block)
+    blocks = re.findall(r"```cpp\n(.*?)```", README.read_text(), flags=re.S)
+    program = next(block for block in blocks if "int main()" in block)
+    fragments = [block for block in blocks if block is not program]
+    assert len(fragments) >= 2, "the guide's C++ fragments (stopping a run, the stepper) are gone"
     project = re.search(r"```cmake\n(.*?)```", README.read_text(), flags=re.S)[1]
     assert "find_package(billiard" in project
     source = tmp_path / "my_discs"
     source.mkdir()
     (source / "main.cpp").write_text(program)
-    (source / "CMakeLists.txt").write_text(project)
+    # The guide's fragments compile against the installed headers too, each as the body of a
+    # function given what they use (built, not run: they wait for seconds).
+    (source / "fragments.cpp").write_text(FRAGMENTS_HEAD + "".join(
+        f"void fragment_{k}(billiard::Simulation& sim, const billiard::Points& positions,\n"
+        f"                  const billiard::Points& velocities) {{\n{block}}}\n"
+        for k, block in enumerate(fragments)) + "int main() {}\n")
+    (source / "CMakeLists.txt").write_text(
+        project + "add_executable(fragments fragments.cpp)\n"
+        "target_link_libraries(fragments PRIVATE billiard::billiard billiard::stepping)\n")
     run(["cmake", "-S", str(source), "-B", str(source / "build"), "-G", "Ninja",
          f"-DCMAKE_PREFIX_PATH={tmp_path / 'prefix'}"])
     run(["cmake", "--build", str(source / "build")])
@@ -43,7 +62,10 @@ def test_find_package_builds_the_guides_example_outside_the_repository(tmp_path)
     assert found and float(found[1]) > 0 and int(found[2]) > 0, output
     # What was installed is the library's API: its headers, not the course's or the engine's internals.
     headers = {path.name for path in (tmp_path / "prefix" / "include").rglob("*.hpp")}
-    assert "simulation.hpp" in headers and "course.hpp" not in headers and "engine.hpp" not in headers
+    assert "simulation.hpp" in headers and "course.hpp" not in headers, headers
+    internals = {path.name for path in (REPO / "lib" / "src" / "engine").glob("*.hpp")}
+    assert {"engine.hpp", "time_of_impact.hpp", "collide.hpp", "container_geometry.hpp"} <= internals
+    assert not headers & internals, f"internal headers installed: {sorted(headers & internals)}"
 
 
 def test_pip_install_into_a_virtual_environment_imports_from_anywhere(tmp_path):

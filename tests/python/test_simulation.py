@@ -24,7 +24,7 @@ def table_with_discs(n=30, radius=0.5, table=10.0, seed=1, log=False):
     sim = billiard.Simulation(billiard.circular_table(table))
     sim.add_random_discs(n, radius, kT=1.0, seed=seed)
     if log:
-        sim.enable_event_log(True)
+        sim.set_log_events(True)
     return sim
 
 
@@ -177,7 +177,7 @@ def test_prefetch_ahead_changes_no_event_and_refuses_an_unknown_mode():
     for mode in ("on", "off"):
         sim = billiard.Simulation(billiard.periodic_box(60.0, 60.0), billiard.Settings(prefetch=mode))
         sim.add_random_discs(400, 1.0, seed=3)
-        sim.enable_event_log(True)
+        sim.set_log_events(True)
         sim.advance(events=500)
         runs[mode] = sim.event_log
     # A speed hint only: the same events (the two discs of a collision may be listed the other way
@@ -314,6 +314,25 @@ def test_add_random_discs_depends_only_on_the_seed():
 
     np.testing.assert_array_equal(positions(3), positions(3))
     assert not np.array_equal(positions(3), positions(4))
+
+
+@pytest.mark.parametrize("fraction, aspect", [(0.9, 1.0), (0.895, 0.6), (0.89, 2.3)])
+def test_discs_fit_up_to_nearly_the_densest_packing(fraction, aspect):
+    # The densest packing of equal discs, the triangular lattice, has area fraction 0.9069: a
+    # lattice fitted to the periodic box places 10,000 discs at 0.9 in a square box, and nearly as
+    # many in boxes of other shapes; beyond the densest packing the call is refused.
+    n, radius = 10_000, 1.0
+    area = n * math.pi * radius**2 / fraction
+    width = math.sqrt(area * aspect)
+    sim = billiard.Simulation(billiard.periodic_box(width, area / width))
+    sim.add_random_discs(n, radius, seed=5)
+    assert len(sim) == n and sim.validate() is None
+    sim.advance(events=20_000)
+    assert sim.validate() is None
+    too_dense = billiard.Simulation(billiard.periodic_box(width, width * 0.9 / aspect))
+    with pytest.raises(ValueError, match="cannot fit|fit in the container"):
+        too_dense.add_random_discs(n, radius, seed=5)
+    assert len(too_dense) == 0
 
 
 def test_dense_random_discs_in_a_periodic_box():

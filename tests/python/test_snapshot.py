@@ -58,12 +58,12 @@ SCENARIOS = [table, periodic_box_with_gravity, granular_bed, rough_discs]
 def started(scenario):
     """The scenario's simulation, run part-way with its event log on."""
     sim, events = scenario()
-    sim.enable_event_log()
+    sim.set_log_events()
     if scenario is granular_bed:
         # Its first discs fall asleep near t = 3.2 (the whole bed only from t = 27).
-        while not sim.sleeping_discs() and sim.time < 20:
+        while not sim.sleeping_discs and sim.time < 20:
             sim.advance(time=0.1)
-        assert 0 < len(sim.sleeping_discs()) < len(sim)
+        assert 0 < len(sim.sleeping_discs) < len(sim)
     else:
         sim.advance(events=events)
     return sim
@@ -75,7 +75,7 @@ def outcome(sim):
     arrays = {"log_" + name: np.asarray(value) for name, value in sim.event_log.items()}
     arrays.update({"state_" + name: np.asarray(value) for name, value in sim.current_state.items()})
     arrays["images"] = np.asarray(sim.images)
-    arrays["sleeping"] = np.asarray(sim.sleeping_discs(), dtype=np.int64)
+    arrays["sleeping"] = np.asarray(sim.sleeping_discs, dtype=np.int64)
     arrays["totals"] = np.array([float(value) for value in sim.totals.values()])
     arrays["saved"] = np.frombuffer(sim.to_bytes(), dtype=np.uint8)
     return arrays

@@ -79,7 +79,7 @@ def assert_msd_agrees(msd, reference, error):
 def periodic_gas(gravity=(0.0, 0.0), seed=3):
     sim = billiard.Simulation(billiard.periodic_box(12.0, 9.0), billiard.Settings(gravity=gravity))
     sim.add_random_discs(40, 0.35, kT=4.0, seed=seed)
-    sim.enable_event_log()
+    sim.set_log_events()
     return sim
 
 

@@ -1,7 +1,7 @@
 #include "billiard/argument_checks.hpp"
 
 #include "billiard/describe.hpp"
-#include "billiard/engine/wall.hpp"
+#include "wall_geometry.hpp"
 #include "billiard/limits.hpp"
 
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "billiard/engine/time_of_impact.hpp"
+#include "time_of_impact.hpp"
 #include "billiard/extensions.hpp"
 
 #include <limits>

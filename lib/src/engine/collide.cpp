@@ -1,5 +1,5 @@
-// Collision impulses. See billiard/engine/collide.hpp for the formula and its source.
-#include "billiard/engine/collide.hpp"
+// Collision impulses. See collide.hpp for the formula and its source.
+#include "collide.hpp"
 
 namespace billiard {
 

@@ -1,5 +1,7 @@
 // The containers: the shape functions and the walls added to them (billiard/engine/container.hpp).
 #include "billiard/engine/container.hpp"
+#include "container_geometry.hpp"
+#include "wall_geometry.hpp"
 
 #include "billiard/limits.hpp"
 #include "billiard/describe.hpp"
@@ -295,7 +297,7 @@ void Container::add_obstacle(const Container& shape) {
   if (shape.free_walls_ > 0) refuse("add_obstacle: shape has walls besides its outline; add them to this container instead");
   refuse_in_periodic_box("add_obstacle");
   // (End points that agree to rounding are one wall, as in the union of circles.)
-  const double merge = 1e-12 * shape.extent();
+  const double merge = 1e-12 * extent(shape);
   for (Outline outline : shape.outlines_) {
     outline.hole = true;
     add_outline(std::move(outline), merge);
@@ -305,8 +307,6 @@ void Container::add_obstacle(const Container& shape) {
 // ---------------------------------------------------------------------------------------------
 // Geometry
 // ---------------------------------------------------------------------------------------------
-
-Vec2 Container::wrap(const Vec2& p) const { return periodic_ ? wrap_into_period(p, period_) : p; }
 
 Vec2 wrap_into_period(Vec2 p, const Vec2& period) {
   if (period.x() > 0) p.x() -= period.x() * std::floor(p.x() / period.x());
@@ -336,47 +336,51 @@ bool inside_outlines(const std::vector<Outline>& outlines, const Vec2& p) {
 }
 }  // namespace
 
-std::string Container::outside(const Vec2& p, double radius, double slack) const {
-  if (has_table_ && p.norm() > table_radius_ - radius + slack) {
+std::string outside(const Container& container, const Vec2& p, double radius, double slack) {
+  const double table = container.table_radius();
+  if (container.has_table() && p.norm() > table - radius + slack) {
     return describe("at (", p.x(), ", ", p.y(), ") is outside the table: |r| = ", p.norm(), " > R - radius = ",
-                    table_radius_ - radius);
+                    table - radius);
   }
-  if (periodic_ && (p.x() < -slack || p.x() >= period_.x() + slack || p.y() < -slack || p.y() >= period_.y() + slack)) {
-    return describe("at (", p.x(), ", ", p.y(), ") is outside the periodic box [0, ", period_.x(), ") x [0, ", period_.y(), ")");
+  const Vec2& period = container.period();
+  if (container.periodic() &&
+      (p.x() < -slack || p.x() >= period.x() + slack || p.y() < -slack || p.y() >= period.y() + slack)) {
+    return describe("at (", p.x(), ", ", p.y(), ") is outside the periodic box [0, ", period.x(), ") x [0, ", period.y(), ")");
   }
-  if (!inside_outlines(outlines_, p)) return describe("at (", p.x(), ", ", p.y(), ") is outside the walls");
+  if (!inside_outlines(container.outlines(), p)) return describe("at (", p.x(), ", ", p.y(), ") is outside the walls");
   return "";
 }
 
-std::optional<Container::Overlap> Container::overlapped_wall(const Vec2& p, double radius, double slack, const int* indices,
-                                                             int count) const {
-  const int n = indices ? count : static_cast<int>(walls_.size());
+std::optional<WallOverlap> overlapped_wall(const Container& container, const Vec2& p, double radius, double slack,
+                                           const int* indices, int count) {
+  const std::vector<WallShape>& walls = container.walls();
+  const int n = indices ? count : static_cast<int>(walls.size());
   for (int k = 0; k < n; ++k) {
     const int w = indices ? indices[k] : k;
-    if (walls_[w].kind == WallKind::Circle) continue;  // (inside the table: see outside)
-    const double clearance = wall_clearance(walls_[w], p, radius);
-    if (clearance < -slack) return Overlap{w, clearance};
+    if (walls[w].kind == WallKind::Circle) continue;  // (inside the table: see outside)
+    const double clearance = wall_clearance(walls[w], p, radius);
+    if (clearance < -slack) return WallOverlap{w, clearance};
   }
   return std::nullopt;
 }
 
-void Container::bounds(Vec2& lower, Vec2& upper) const {
-  if (periodic_) {
+void bounds(const Container& container, Vec2& lower, Vec2& upper) {
+  if (container.periodic()) {
     lower = Vec2::Zero();
-    upper = period_;
+    upper = container.period();
     return;
   }
   // Centres lie inside the table and inside the outlines (an outline inside another is an
   // obstacle): the table's box cut down to the box around all the outlines.
   lower = Vec2::Constant(-kNever);
   upper = Vec2::Constant(kNever);
-  if (has_table_) {
-    lower = Vec2::Constant(-table_radius_);
-    upper = Vec2::Constant(table_radius_);
+  if (container.has_table()) {
+    lower = Vec2::Constant(-container.table_radius());
+    upper = Vec2::Constant(container.table_radius());
   }
-  if (has_table_ && outlines_.empty()) return;
+  if (container.has_table() && container.outlines().empty()) return;
   Vec2 outline_lower = Vec2::Constant(kNever), outline_upper = Vec2::Constant(-kNever);
-  for (const Outline& outline : outlines_) {
+  for (const Outline& outline : container.outlines()) {
     if (outline.hole) continue;
     for (const WallShape& piece : outline.pieces) {
       Vec2 lo = piece.a.cwiseMin(piece.b), hi = piece.a.cwiseMax(piece.b);
@@ -390,10 +394,10 @@ void Container::bounds(Vec2& lower, Vec2& upper) const {
   upper = upper.cwiseMin(outline_upper);
 }
 
-double Container::extent() const {
-  double largest = has_table_ ? table_radius_ : 0.0;
-  if (periodic_) largest = std::max(largest, period_.maxCoeff());
-  for (const WallShape& wall : walls_) {
+double extent(const Container& container) {
+  double largest = container.table_radius();
+  if (container.periodic()) largest = std::max(largest, container.period().maxCoeff());
+  for (const WallShape& wall : container.walls()) {
     if (wall.kind == WallKind::Arc) largest = std::max(largest, wall.a.cwiseAbs().maxCoeff() + wall.radius);
     if (wall.kind != WallKind::Circle) largest = std::max({largest, wall.a.cwiseAbs().maxCoeff(), wall.b.cwiseAbs().maxCoeff()});
   }

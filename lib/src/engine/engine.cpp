@@ -12,7 +12,8 @@
 // last update and moved only when an event touches it.
 #include "engine.hpp"
 
-#include "billiard/engine/time_of_impact.hpp"
+#include "time_of_impact.hpp"
+#include "wall_geometry.hpp"
 #include "billiard/describe.hpp"
 
 #include <algorithm>
@@ -60,7 +61,7 @@ void Engine::prepare() {
   const int n = static_cast<int>(hot.size());
   // Region covered by the cells: every place a centre can reach.
   Vec2 lower, upper;
-  container.bounds(lower, upper);
+  bounds(container, lower, upper);
   const Vec2 extent = upper - lower;
   // Cell size. At least one largest diameter, so that contacts are between neighbouring cells.
   // Automatic choice: about one disc per cell on average (side 1/sqrt(number density)), which
@@ -87,7 +88,7 @@ void Engine::prepare() {
   image_counts.assign(static_cast<std::size_t>(n), {0, 0});
   for (int i = 0; i < n; ++i) {
     HotDisc& d = hot[i];
-    d.position = container.wrap(d.position);  // (a no-op: discs are added inside the box)
+    d.position = wrap(container, d.position);  // (a no-op: discs are added inside the box)
     const int cell = cell_of(grid, d.position);
     link(i, cell % grid.nx, cell / grid.nx);
   }
@@ -142,7 +143,7 @@ inline void test_pair(const BigVector<HotDisc>& hot, const Vec2& gravity, int i,
                       const Vec2& r, const Vec2& v, double radius, double t0, Scheduled& s) {
   const HotDisc& o = hot[j];
   if (kSleepers && Engine::asleep(o)) {
-    const double reach = radius * (1 - Simulation::kFixedContactSlack) + o.radius;
+    const double reach = radius * (1 - kFixedContactSlack) + o.radius;
     const double t = t0 + disc_point_time(r, v, gravity, o.position + shift, reach);
     if (t < s.contact_time) {
       s.contact_time = t;
@@ -488,7 +489,7 @@ void Engine::collide_pair(int i, int j) {
   HotDisc& b = hot[j];
   advance_disc(a, now);
   advance_disc(b, now);
-  const Vec2 dr = container.minimum_image(b.position - a.position);  // from i to j
+  const Vec2 dr = minimum_image(container, b.position - a.position);  // from i to j
   const double speed_i = a.velocity.norm(), speed_j = b.velocity.norm();
   Vec2 q;
   if (smooth_elastic) {
@@ -762,7 +763,7 @@ AdvanceResult Engine::advance(std::int64_t max_events, double max_duration, cons
   // Stop requests and should_stop are looked at before the first event and then every
   // poll_interval queue entries: one countdown per event (looking at the atomic flag after every
   // event measurably slowed the loop, by 0.7%).
-  const std::int64_t poll_interval = should_stop ? check_interval : Simulation::kEventsBetweenStopPolls;
+  const std::int64_t poll_interval = check_interval;
   std::int64_t until_poll = 1;
   // Without a duration limit, a system where no collision can ever happen (discs moving in
   // parallel in a periodic box) would cross cells forever: stop after this many crossings in a
@@ -858,7 +859,7 @@ State Engine::state_now() const {
   for (int i = 0; i < n; ++i) {
     HotDisc d = hot[i];
     advance_disc(d, now);
-    d.position = container.wrap(d.position);
+    d.position = wrap(container, d.position);
     state.positions.row(i) = d.position.transpose();
     state.velocities.row(i) = d.velocity.transpose();
     state.spins[i] = cold[i].spin;
@@ -905,12 +906,12 @@ std::string Engine::disc_problem(int i, double tolerance, const Vec2* positions)
   const double slack = tolerance * d.radius;
   // Inside the container and off every wall (those listed in its cell, when there are many).
   const std::string who = describe("disc ", i);
-  const std::string outside = container.outside(ri, d.radius, slack);
-  if (!outside.empty()) return who + " " + outside;
+  const std::string where = outside(container, ri, d.radius, slack);
+  if (!where.empty()) return who + " " + where;
   const bool few_walls = container.walls().size() <= 64;
   const int first_wall = cell_walls_begin(grid, cell_i);
-  const auto on_wall = few_walls ? container.overlapped_wall(ri, d.radius, slack)
-                                 : container.overlapped_wall(ri, d.radius, slack, grid.wall_items.data() + first_wall,
+  const auto on_wall = few_walls ? overlapped_wall(container, ri, d.radius, slack)
+                                 : overlapped_wall(container, ri, d.radius, slack, grid.wall_items.data() + first_wall,
                                                              cell_walls_end(grid, cell_i) - first_wall);
   if (on_wall) return wall_overlap_message(who, ri, on_wall->wall, on_wall->clearance, d.radius);
   // In its cell (up to rounding).

@@ -4,12 +4,13 @@
 // Not part of the public API (tests may include it on purpose).
 #pragma once
 
-#include "billiard/engine/collide.hpp"
+#include "collide.hpp"
 #include "billiard/engine/disc.hpp"
 #include "billiard/engine/settings.hpp"
 #include "billiard/engine/simulation.hpp"
 #include "billiard/engine/wall.hpp"
 #include "billiard/engine/container.hpp"
+#include "container_geometry.hpp"
 #include "event_queue.hpp"
 #include "sectors.hpp"
 
@@ -232,8 +233,8 @@ struct Engine {
   void collide_wall(int i, int wall);
   Restitution restitution_of(double approach_speed, double last_i, double last_j) const;
   // Under gravity, the distance from a disc's centre at which it meets fixed things (see
-  // Simulation::kFixedContactSlack).
-  double fixed_reach(double radius) const { return has_gravity ? radius * (1 - Simulation::kFixedContactSlack) : radius; }
+  // kFixedContactSlack).
+  double fixed_reach(double radius) const { return has_gravity ? radius * (1 - kFixedContactSlack) : radius; }
   // Sleeping discs (sleep.cpp).
   static bool asleep(const HotDisc& d) { return d.inverse_mass == 0; }
   double sleep_time() const;

@@ -3,6 +3,7 @@
 #include "billiard/engine/replay.hpp"
 
 #include "billiard/engine/container.hpp"
+#include "container_geometry.hpp"
 #include "billiard/describe.hpp"
 
 #include <cmath>

@@ -1,5 +1,6 @@
 // Sectors: the uniform grid of cells. See sectors.hpp.
 #include "sectors.hpp"
+#include "wall_geometry.hpp"
 
 #include <algorithm>
 #include <cmath>

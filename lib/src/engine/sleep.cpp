@@ -148,7 +148,7 @@ void Engine::predict_around(const std::vector<int>& discs) {
 bool Engine::hit_wakes(int i, int j) const {
   HotDisc d = hot[i];
   advance_disc(d, now);
-  const Vec2 sigma = container.minimum_image(hot[j].position - d.position).normalized();
+  const Vec2 sigma = minimum_image(container, hot[j].position - d.position).normalized();
   return d.velocity.dot(sigma) >= sleep_speed;
 }
 

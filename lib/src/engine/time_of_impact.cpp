@@ -1,5 +1,5 @@
 // Time-of-impact solvers. Every function is pure and returns kNever for "no future contact".
-#include "billiard/engine/time_of_impact.hpp"
+#include "time_of_impact.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,8 +1,8 @@
 // Geometry of walls: distances used to check input, to place walls in cells and to find the
 // contact normal.
-#include "billiard/engine/wall.hpp"
+#include "wall_geometry.hpp"
 
-#include "billiard/engine/time_of_impact.hpp"
+#include "time_of_impact.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -7,7 +7,7 @@
 // rounding, plus the first-order effect of the library's wall contact slack.
 #include "graded/gravity_support.hpp"
 
-#include "billiard/engine/time_of_impact.hpp"
+#include "time_of_impact.hpp"
 #include "support/graded.hpp"
 
 #include <cmath>

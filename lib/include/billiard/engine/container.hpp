@@ -12,16 +12,14 @@
 // container as it was. Numbers must be finite and at most 1e50 in magnitude, and lengths (radii,
 // sides) at least 1e-50, as a disc's radius (limits.hpp).
 //
-// Its geometry is asked the same questions by the simulation's checks, the event loop,
-// validation and replay: where a periodic position wraps to, the nearest periodic image, whether
-// a disc is inside, how far it is from a wall, and which region the discs can reach. Each answer
-// is written once, here.
+// The questions the engine asks of a container's geometry (where a periodic position wraps to,
+// the nearest image, whether a disc is inside, how far it is from a wall) are answered once, in
+// the library's internals (lib/src/engine/container_geometry.hpp).
 #pragma once
 
 #include "billiard/engine/vec2.hpp"
 #include "billiard/engine/wall.hpp"
 
-#include <cmath>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -87,41 +85,11 @@ class Container {
   bool periodic() const { return periodic_; }
   const Vec2& period() const { return period_; }  // width and height of the periodic box; (0, 0) if none
 
-  // ---- Geometry ----
-  // p wrapped into the periodic box (p itself without one).
-  Vec2 wrap(const Vec2& p) const;
-  // The shortest of the vectors equal to dr up to whole periods (dr itself without a period).
-  // (Inline: the event loop calls it at every collision.)
-  Vec2 minimum_image(Vec2 dr) const {
-    if (periodic_) {
-      dr.x() -= period_.x() * std::round(dr.x() / period_.x());
-      dr.y() -= period_.y() * std::round(dr.y() / period_.y());
-    }
-    return dr;
-  }
   // ---- Saving and loading (snapshot.cpp; the format is that of Simulation::to_bytes) ----
   // The container as bytes, and back: from_bytes refuses (std::invalid_argument, naming
   // `source`) anything that is not such bytes, unchanged, from this format version.
   std::string to_bytes() const;
   static Container from_bytes(std::string_view bytes, const std::string& source = "the data");
-
-  // Why a disc of `radius` centred at p is not inside the container by more than `slack` (the
-  // table, the periodic box, the outlines), as the end of a sentence after "disc i"; "" if it is.
-  std::string outside(const Vec2& p, double radius, double slack) const;
-  // The first wall (from index `first` of `indices`, or of all walls when indices is null) that
-  // a disc of `radius` at p overlaps by more than `slack`, with its clearance.
-  struct Overlap {
-    int wall;
-    double clearance;
-  };
-  std::optional<Overlap> overlapped_wall(const Vec2& p, double radius, double slack, const int* indices = nullptr,
-                                         int count = -1) const;
-  // A box holding every place a centre can reach: the period, or the box of the table and the
-  // outlines.
-  void bounds(Vec2& lower, Vec2& upper) const;
-  // The largest coordinate of the container and the walls. Every wall counts: the distance to a
-  // segment that reaches into the table from 1e50 away is computed from its far end point.
-  double extent() const;
 
  private:
   Container() = default;  // (made by the shape functions only: a container always holds discs in)
@@ -147,13 +115,5 @@ class Container {
   Vec2 period_ = Vec2::Zero();
   int free_walls_ = 0;  // segments and arcs added on their own, outside any outline
 };
-
-// p moved by whole periods into [0, period.x) x [0, period.y); p itself when period is (0, 0)
-// (no periodic box).
-Vec2 wrap_into_period(Vec2 p, const Vec2& period);
-
-// Gap between a disc of `radius` at p and a wall: the distance from the disc's edge to the wall,
-// negative when they overlap. For the circle of a table the disc is inside it.
-double wall_clearance(const WallShape& wall, const Vec2& p, double radius);
 
 }  // namespace billiard

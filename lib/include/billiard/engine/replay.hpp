@@ -1,7 +1,7 @@
 // Replaying a recorded run: the state just after each logged event, or at increasing times
 // (for animations at a fixed frame rate), rebuilt from the initial state and the event log.
 //
-//   sim.enable_event_log(true);
+//   sim.set_log_events(true);
 //   sim.advance(1000);
 //   billiard::Replay replay(sim);
 //   while (!replay.finished()) draw(replay.after_next_event());

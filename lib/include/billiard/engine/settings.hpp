@@ -11,12 +11,20 @@
 // simulation's setters of the same names.
 #pragma once
 
-#include "billiard/engine/collide.hpp"
 #include "billiard/engine/vec2.hpp"
 
 #include <optional>
 
 namespace billiard {
+
+// Coefficients of restitution (the collision rule: lib/PHYSICS.md, "Collision rules"). normal
+// in [0, 1] (1: elastic); tangential in [-1, 1] (-1: smooth, the contact points slide freely and
+// spins never change; +1: perfectly rough, the tangential contact velocity is reversed). Kinetic
+// energy (with spin) is conserved iff normal = 1 and tangential = +-1.
+struct Restitution {
+  double normal = 1.0;
+  double tangential = -1.0;
+};
 
 // Whether each event starts loading the data of the event expected after it (the discs' states
 // around it) into the caches: faster for large systems, slower where everything fits in the
@@ -24,10 +32,21 @@ namespace billiard {
 // tests). The events and results are the same either way.
 enum class Prefetch { Automatic, On, Off };
 
+// The granular model's fixed numbers. A disc resting on a floor under gravity bounces at most
+// this many mean radii high before its collisions turn elastic (the automatic elastic impact and
+// sleep speeds).
+inline constexpr double kRestingBounce = 0.05;
+// Under gravity a disc meets fixed things (walls, sleeping discs) this fraction of its radius
+// closer than touching: a disc at rest on a floor, or sliding along it, would otherwise meet it
+// again at once after each bounce (approach speed 0), for ever at one instant. With the slack it
+// drops that far and bounces (the drop gives it the speed: no energy is gained). Ten times below
+// Simulation::validate()'s tolerance.
+inline constexpr double kFixedContactSlack = 1e-10;
+
 struct Settings {
   // Uniform, any direction.
   Vec2 gravity = Vec2::Zero();
-  // See collide.hpp; the default is smooth elastic discs.
+  // The default is smooth elastic discs.
   Restitution restitution;
   // The exchange rule: two discs that meet reverse their whole relative velocity, so discs of
   // equal mass exchange their velocities (exactly); walls reflect like mirrors (the normal
@@ -57,7 +76,7 @@ struct Settings {
   //    sleeping discs resting on it); slower hits bounce off it.
   // std::nullopt (the default) chooses each automatically at the first advance (see
   // Simulation::contact_duration()); 0 switches the rule off. The automatic sleep speed is
-  // sqrt(2 |g| h) with h = Simulation::kRestingBounce mean radii when gravity acts and the
+  // sqrt(2 |g| h) with h = kRestingBounce mean radii when gravity acts and the
   // normal restitution is below 1, else 0; while discs can sleep, the automatic elastic impact
   // speed is 0.
   std::optional<double> contact_duration;

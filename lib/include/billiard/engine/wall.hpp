@@ -7,8 +7,6 @@
 
 #include "billiard/engine/vec2.hpp"
 
-#include <vector>
-
 namespace billiard {
 
 enum class WallKind : int { Segment, Point, Circle, Arc };
@@ -25,37 +23,5 @@ struct WallShape {
   double start_angle = 0.0;
   double sweep = 0.0;
 };
-
-// The point of an arc's circle at `angle`: its end points are arc_point(arc, start_angle) and
-// arc_point(arc, start_angle + sweep) (segments joining an arc are built from these, so that they
-// meet it exactly).
-Vec2 arc_point(const WallShape& arc, double angle);
-
-// Distance between an arc and the axis-aligned rectangle [lo, hi] (0 if they meet).
-double arc_rectangle_distance(const WallShape& arc, const Vec2& lo, const Vec2& hi);
-
-// The smallest axis-aligned box holding the arc.
-void arc_bounds(const WallShape& arc, Vec2& lo, Vec2& hi);
-
-// Even-odd rule for a closed curve made of segments and arcs (in any order; several closed
-// curves may be mixed): does a ray from p towards +x cross the pieces an odd number of times?
-// For segments it is inside_polygon's rule; an arc counts like the y-monotone pieces it splits
-// into at its highest and lowest points.
-bool inside_pieces(const std::vector<WallShape>& pieces, const Vec2& p);
-
-// Closest point of a wall to the point p (for a circle: on its rim, towards p).
-Vec2 closest_point(const WallShape& wall, const Vec2& p);
-
-// Distance from p to the segment a-b.
-double distance_to_segment(const Vec2& p, const Vec2& a, const Vec2& b);
-
-// Distance between the segment a-b and the axis-aligned rectangle [lo, hi] (0 if they meet).
-double segment_rectangle_distance(const Vec2& a, const Vec2& b, const Vec2& lo, const Vec2& hi);
-
-// Distance between the point p and the rectangle [lo, hi] (0 inside).
-double point_rectangle_distance(const Vec2& p, const Vec2& lo, const Vec2& hi);
-
-// Even-odd rule: is p inside the closed polygon with these vertices (N by 2)?
-bool inside_polygon(const Points& vertices, const Vec2& p);
 
 }  // namespace billiard

@@ -1,7 +1,7 @@
 // Time of impact: pure functions, each returning the smallest time t >= 0 at which two objects
 // moving freely (straight lines, or parabolas under a uniform gravity g) start touching, or
 // kNever if they never do. Derivations: lib/PHYSICS.md ("Time of impact") and the
-// comments in lib/src/engine/time_of_impact.cpp.
+// comments in time_of_impact.cpp. Internal: not installed.
 //
 // Rounding convention, used everywhere: an object found a hair inside an obstacle (overlap of
 // the order of rounding) and still moving into it collides at t = 0, so it bounces back instead

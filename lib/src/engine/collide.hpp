@@ -4,21 +4,13 @@
 // relative velocity of the contact points, the impulse on i is
 //   Q = -(1 + e_n) mu (g.sigma) sigma - (1 + e_t) [1/mu + a_i^2/I_i + a_j^2/I_j]^-1 g_t,
 // mu = m_i m_j / (m_i + m_j), g_t the tangential part of g. Momentum: P_i += Q, P_j -= Q; spin:
-// I w += (lever x impulse). A wall is a body of infinite mass and inertia.
+// I w += (lever x impulse). A wall is a body of infinite mass and inertia. Internal: not installed.
 #pragma once
 
+#include "billiard/engine/settings.hpp"  // Restitution
 #include "billiard/engine/vec2.hpp"
 
 namespace billiard {
-
-// Coefficients of restitution. normal in [0, 1] (1: elastic); tangential in [-1, 1] (-1: smooth,
-// the contact points slide freely and spins never change; +1: perfectly rough, the tangential
-// contact velocity is reversed). Kinetic energy (with spin) is conserved iff normal = 1 and
-// tangential = +-1.
-struct Restitution {
-  double normal = 1.0;
-  double tangential = -1.0;
-};
 
 // The dynamic properties of one side of a contact. inverse_mass = 0 and inverse_inertia = 0
 // make an immovable body (a wall). `lever` is the distance from the centre to the contact point
