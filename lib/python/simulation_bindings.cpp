@@ -595,8 +595,8 @@ inertia (n,). Bad input raises ValueError naming the argument (and the disc) and
       .def_property_readonly(
           "event_log", [](const Simulation& s) { return event_log_dict(s.event_log()); },
           "The recorded events as a dict of arrays: time, kind (DISC_DISC, DISC_WALL, or SLEEP and WAKE for a disc\n"
-          "falling asleep or waking up), disc, other (-1 for a wall, -2 for none), wall, and position, velocity,\n"
-          "spin of disc and other just after the event.")
+          "falling asleep or waking up), disc, other (-1 when there is no other disc: a wall, or none), wall (-1\n"
+          "unless a wall), and position, velocity, spin of disc and other just after the event.")
       .def_property_readonly(
           "totals",
           [](const Simulation& s) {

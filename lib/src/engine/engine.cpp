@@ -729,7 +729,7 @@ void Engine::handle_disc_collision(int i, int j, AdvanceResult& result) {
 
 void Engine::handle_wall_collision(int i, int wall, AdvanceResult& result) {
   collide_wall(i, wall);
-  if (logging) record(EventKind::DiscWall, i, kWall, wall);
+  if (logging) record(EventKind::DiscWall, i, kNoDisc, wall);
   predict_full(i);
   ++result.wall_collisions;
   if (sleep_speed > 0) try_to_sleep(i);

@@ -7,13 +7,12 @@
 
 #include "memory.hpp"
 #include "billiard/engine/vec2.hpp"
+#include "billiard/engine/disc.hpp"  // kNoDisc
 #include "billiard/engine/wall.hpp"
 
 #include <vector>
 
 namespace billiard {
-
-inline constexpr int kNoDisc = -1;
 
 struct Grid {
   Vec2 lower = Vec2::Zero();  // corner of cell (0, 0)

@@ -129,7 +129,7 @@ void Engine::try_to_sleep(int i) {
     s.partner = kNoDisc;
     s.wall = kNoWall;
     schedule(m);
-    if (logging) record(EventKind::Sleep, m, kNoOther, kNoWall);
+    if (logging) record(EventKind::Sleep, m, kNoDisc, kNoWall);
   }
   predict_around(members);
 }
@@ -178,7 +178,7 @@ void Engine::wake(int j) {
     cold[k].slow_since = now;
     cold[k].next_sleep_try = now;
     --sleeping;
-    if (logging) record(EventKind::Wake, k, kNoOther, kNoWall);
+    if (logging) record(EventKind::Wake, k, kNoDisc, kNoWall);
   }
   for (int k : woken) predict_full(k);
   predict_around(woken);
@@ -195,7 +195,7 @@ void Engine::wake_all() {
     ++d.counter;
     cold[i].slow_since = now;
     woken.push_back(i);
-    if (logging) record(EventKind::Wake, i, kNoOther, kNoWall);
+    if (logging) record(EventKind::Wake, i, kNoDisc, kNoWall);
   }
   sleeping = 0;
   for (int i : woken) predict_full(i);

@@ -37,12 +37,13 @@ struct State {
 // asleep or waking up (see Settings::sleep_speed).
 enum class EventKind : int { DiscDisc, DiscWall, Sleep, Wake };
 
-// One recorded event (the event log). `other` is the second disc; for a wall hit it is kWall
-// and `wall` is the wall's index (see Container::walls()); for Sleep and Wake it is kNoOther.
-// wall = kNoWall unless a wall was hit. Positions and velocities are those just after the event
-// (at `time`); the other_* fields are zero unless `other` is a disc.
+// One recorded event (the event log). `other` is the second disc, or kNoDisc when there is none:
+// a wall hit (`wall` is then the wall's index, see Container::walls()), a disc falling asleep or
+// waking up. wall = kNoWall unless a wall was hit. Positions and velocities are those just after
+// the event (at `time`); the other_* fields are zero unless `other` is a disc.
 inline constexpr int kNoWall = -1;
-inline constexpr int kNoOther = -2;
+// (The course's value for the table's wall, wall_hit.hpp: its collisions and this log compare.)
+inline constexpr int kNoDisc = kWall;
 struct EventRecord {
   double time = 0.0;
   EventKind kind = EventKind::DiscDisc;

@@ -230,7 +230,7 @@ class Simulation {
   // Nothing is half-loaded: the result is made whole or not at all.
   static Simulation from_bytes(std::string_view bytes, const std::string& source = "the data");
   static Simulation load(std::istream& in, const std::string& source = "the stream");
-  static constexpr std::uint32_t kFileFormatVersion = 2;
+  static constexpr std::uint32_t kFileFormatVersion = 3;
 
  private:
   // The disc arrays, the cells, the queue and the event loop, whose type belongs to lib/src
