@@ -365,7 +365,9 @@ with the simulation's setters of the same names.)");
       .def_property(
           "gravity", [](const Settings& s) { return pair(s.gravity); },
           [](Settings& s, const py::object& g) { s.gravity = to_vec2(g, "settings.gravity"); },
-          "Uniform gravity (gx, gy); default (0, 0).")
+          "Uniform gravity (gx, gy); default (0, 0). In a periodic box it moves every disc alike: the discs are\n"
+          "simulated in the freely falling frame (their relative motion as precise as without gravity) and the\n"
+          "fall is added to what the simulation reports.")
       .def_property(
           "restitution",
           [](const Settings& s) { return py::make_tuple(s.restitution.normal, s.restitution.tangential); },

@@ -666,12 +666,14 @@ void Engine::record(EventKind kind, int i, int other, int wall) {
   e.disc = i;
   e.other = other;
   e.wall = wall;
-  e.position = hot[i].position;
-  e.velocity = hot[i].velocity;
+  LabDisc lab = lab_frame(hot[i], now);
+  e.position = lab.position;
+  e.velocity = lab.velocity;
   e.spin = cold[i].spin;
   if (other >= 0) {
-    e.other_position = hot[other].position;
-    e.other_velocity = hot[other].velocity;
+    lab = lab_frame(hot[other], now);
+    e.other_position = lab.position;
+    e.other_velocity = lab.velocity;
     e.other_spin = cold[other].spin;
   }
   log.push_back(e);
@@ -859,26 +861,46 @@ State Engine::state_now() const {
   for (int i = 0; i < n; ++i) {
     HotDisc d = hot[i];
     advance_disc(d, now);
-    d.position = wrap(container, d.position);
-    state.positions.row(i) = d.position.transpose();
-    state.velocities.row(i) = d.velocity.transpose();
+    const LabDisc lab = lab_frame(d, now);
+    state.positions.row(i) = lab.position.transpose();
+    state.velocities.row(i) = lab.velocity.transpose();
     state.spins[i] = cold[i].spin;
   }
   return state;
+}
+
+Engine::LabDisc Engine::lab_frame(const HotDisc& d, double t, std::array<std::int64_t, 2>* images) const {
+  LabDisc lab{d.position, d.velocity};
+  if (!container.periodic()) return lab;
+  const double time = epoch + t;
+  lab.velocity += time * fall;
+  const Vec2& period = container.period();
+  for (int k = 0; k < 2; ++k) {
+    // The fall g t^2 / 2 as whole periods and a rest within one: the wrapped position keeps its
+    // precision however far the gas has fallen (the rest is the same for every disc).
+    const double drop = fall[k] == 0 ? 0.0 : 0.5 * fall[k] * time * time;
+    const double periods = std::floor(drop / period[k]);
+    const double unwrapped = d.position[k] + (drop - periods * period[k]);
+    // (Rounding may have left the disc just outside the box, at its cell's outer face: that wrap
+    // counts too, as in wrap_into_period.)
+    const double wraps = std::floor(unwrapped / period[k]);
+    lab.position[k] = unwrapped - wraps * period[k];
+    if (images) (*images)[k] = static_cast<std::int64_t>(std::clamp(periods + wraps, -9.2e18, 9.2e18));
+  }
+  return lab;
 }
 
 Images Engine::images_now() const {
   const int n = static_cast<int>(hot.size());
   Images out = Images::Zero(n, 2);
   if (!container.periodic()) return out;
-  const Vec2& period = container.period();
   for (int i = 0; i < n; ++i) {
     HotDisc d = hot[i];
     advance_disc(d, now);
-    // state_now() wraps this position once more if rounding has left it just outside the box (a
-    // disc at its cell's outer face): that wrap counts too, as in wrap_into_period.
-    out(i, 0) = static_cast<std::int64_t>(std::floor(d.position.x() / period.x()));
-    out(i, 1) = static_cast<std::int64_t>(std::floor(d.position.y() / period.y()));
+    std::array<std::int64_t, 2> wraps{};  // the wraps state_now() makes (and the fall's)
+    lab_frame(d, now, &wraps);
+    out(i, 0) = wraps[0];
+    out(i, 1) = wraps[1];
     if (static_cast<std::size_t>(i) < image_counts.size()) {
       out(i, 0) += image_counts[static_cast<std::size_t>(i)][0];
       out(i, 1) += image_counts[static_cast<std::size_t>(i)][1];

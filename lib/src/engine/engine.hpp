@@ -126,9 +126,15 @@ struct Engine {
 
   // ---- setup ----
   Container container;
+  // The gravity the discs move under: Settings::gravity, except in a periodic box. There it
+  // accelerates every disc alike and changes nothing between them, so the engine moves the discs
+  // in the freely falling frame, without gravity (`fall` holds Settings::gravity), and adds the
+  // fall, g t^2 / 2 and g t, to what it reports (lab_frame): a gas that falls for ever keeps the
+  // precision of its relative motion (lib/DESIGN.md, "Discs are never lost").
   Vec2 gravity = Vec2::Zero();
   bool has_gravity = false;
   double gravity_norm = 0.0;
+  Vec2 fall = Vec2::Zero();
   Restitution restitution;
   // Disc-disc collisions take the fast smooth elastic path (restitution 1, -1, no exchange).
   bool smooth_elastic = true;
@@ -265,6 +271,12 @@ struct Engine {
   void unlink(int i);
   State state_now() const;
   Images images_now() const;  // consistent with state_now()'s wrapped positions
+  // A disc as the user sees it at engine time `t`: in the lab frame (the fall added in a periodic
+  // box under gravity), wrapped into the box; `images`, if given, gets the wraps the fall adds.
+  struct LabDisc {
+    Vec2 position, velocity;
+  };
+  LabDisc lab_frame(const HotDisc& d, double t, std::array<std::int64_t, 2>* images = nullptr) const;
   std::string check(double tolerance = 1e-9) const;
   std::string disc_problem(int i, double tolerance, const Vec2* positions) const;
   void record(EventKind kind, int i, int other, int wall);

@@ -229,9 +229,10 @@ const Settings& checked(const Settings& s) {
 
 Engine::Engine(Container c, const Settings& s)
     : container(std::move(c)),
-      gravity(s.gravity),
-      has_gravity(s.gravity.x() != 0 || s.gravity.y() != 0),
-      gravity_norm(s.gravity.norm()),
+      gravity(container.periodic() ? Vec2::Zero() : s.gravity),
+      has_gravity(gravity.x() != 0 || gravity.y() != 0),
+      gravity_norm(gravity.norm()),
+      fall(container.periodic() ? s.gravity : Vec2::Zero()),
       restitution(s.restitution),
       exchange_velocities(s.exchange_velocities),
       contact_duration_setting(s.contact_duration),
@@ -588,7 +589,8 @@ double Simulation::kinetic_energy() const {
   for (std::size_t i = 0; i < e.hot.size(); ++i) {
     HotDisc d = e.hot[i];
     e.advance_disc(d, e.now);
-    sum += 0.5 * e.cold[i].mass * d.velocity.squaredNorm() + 0.5 * e.cold[i].inertia * e.cold[i].spin * e.cold[i].spin;
+    const Vec2 velocity = e.lab_frame(d, e.now).velocity;
+    sum += 0.5 * e.cold[i].mass * velocity.squaredNorm() + 0.5 * e.cold[i].inertia * e.cold[i].spin * e.cold[i].spin;
   }
   return sum;
 }
@@ -599,7 +601,7 @@ double Simulation::potential_energy() const {
   for (std::size_t i = 0; i < e.hot.size(); ++i) {
     HotDisc d = e.hot[i];
     e.advance_disc(d, e.now);
-    sum -= e.cold[i].mass * e.gravity.dot(d.position);
+    sum -= e.cold[i].mass * (e.gravity + e.fall).dot(e.lab_frame(d, e.now).position);
   }
   return sum;
 }
@@ -628,7 +630,7 @@ Eigen::VectorXd Simulation::radii() const { return column(engine_of(engine_).hot
 Eigen::VectorXd Simulation::masses() const { return column(engine_of(engine_).cold, &ColdDisc::mass); }
 Eigen::VectorXd Simulation::inertias() const { return column(engine_of(engine_).cold, &ColdDisc::inertia); }
 
-Vec2 Simulation::gravity() const { return engine_of(engine_).gravity; }
+Vec2 Simulation::gravity() const { return engine_of(engine_).gravity + engine_of(engine_).fall; }
 Restitution Simulation::restitution() const { return engine_of(engine_).restitution; }
 double Simulation::contact_duration() const { return engine_of(engine_).contact_duration; }
 double Simulation::elastic_impact_speed() const { return engine_of(engine_).elastic_impact_speed; }

@@ -218,6 +218,7 @@ void transfer(Io& io, Engine& e) {
   io(e.gravity);
   io(e.has_gravity);
   io(e.gravity_norm);
+  io(e.fall);
   io(e.restitution.normal);
   io(e.restitution.tangential);
   io(e.smooth_elastic);

@@ -44,7 +44,11 @@ inline constexpr double kRestingBounce = 0.05;
 inline constexpr double kFixedContactSlack = 1e-10;
 
 struct Settings {
-  // Uniform, any direction.
+  // Uniform, any direction. In a periodic box it accelerates every disc alike and changes nothing
+  // between them: the discs are moved in the freely falling frame (their relative motion as
+  // precise as without gravity, however long they fall) and the fall, g t^2 / 2 and g t, is
+  // added to what the simulation reports; the granular model's automatic values are those
+  // without gravity there (nothing rests in a periodic box).
   Vec2 gravity = Vec2::Zero();
   // The default is smooth elastic discs.
   Restitution restitution;

@@ -60,7 +60,9 @@ inline constexpr std::int64_t kAllEvents = std::numeric_limits<std::int64_t>::ma
 // Periodic image counts, N by 2 (row i = disc i, columns x and y): how many times each disc has
 // been wrapped across the periodic box, +1 for each crossing of its upper face (x = width or
 // y = height) and -1 for each crossing of the lower. Position + images * period is the unwrapped
-// position, continuous in time: displacements and mean squared displacements come from it.
+// position, continuous in time: displacements and mean squared displacements come from it. Under
+// gravity the fall's whole periods count too (see Settings::gravity); counts saturate at
+// +-9.2e18, a fall through that many periods.
 using Images = Eigen::Matrix<std::int64_t, Eigen::Dynamic, 2, Eigen::RowMajor>;
 
 // What advance() did. "Collisions" are disc-disc plus disc-wall events; cell crossings and
