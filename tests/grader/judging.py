@@ -734,5 +734,22 @@ def run_tests(results, build, cells, clocks, jobs, cache, quiet=False):
     if cache:
         for test in work:
             cache.remember(test, programs)
+    for result in results:
+        point_to_the_first_failure(result)
+
+
+def point_to_the_first_failure(result):
+    """A task's later failing tests often fail because of the mistake its first failing test
+    names, while their own hints speak of what they check: each of them says to fix the first one
+    first, so that no hint read alone (on Gradescope each test is read alone) points away from the
+    mistake."""
+    failed = [test for test in result.tests if not test.passed and test.visibility != "hidden" and test.feedback]
+    for test in failed[1:]:
+        test.feedback = FIRST_FAILURE.format(first=failed[0].name) + "\n" + test.feedback
+
+
+# The first line of a task's later failing tests (point_to_the_first_failure).
+FIRST_FAILURE = ("First fix {first}, this task's first failing test: this one may fail for the same reason, and "
+                 "pass with it.")
 
 

@@ -28,6 +28,7 @@ sys.path.insert(0, str(GRADER))
 import browser  # noqa: E402
 import package  # noqa: E402  (the platforms' time limits)
 import course  # noqa: E402  (the course's tasks)
+import judging  # noqa: E402  (the pointer to a task's first failure)
 import time_limits  # noqa: E402
 
 TASKS = package.TASKS
@@ -728,13 +729,20 @@ class Mutants(unittest.TestCase):
                         problems.append(f"{task}/{mutant.name}: the first failing test "
                                         f"{first['name'] if first else '(none)'} leads with \"{hint}\", which does not "
                                         f"name the bug (\"{lead}\")")
-                    # The later failing tests' hints: which name the same bug (said, not yet required).
+                    # The later failing tests: a hint that speaks of something else must come after
+                    # the pointer to the first failing test, so that read alone it does not mislead.
                     later = [test for test in failing if test is not first and test["visibility"] != "hidden"]
-                    elsewhere = [test["name"].split(": ", 1)[1] for test in later
+                    elsewhere = [test for test in later
                                  if lead.lower() not in next((line for line in shown_text(test).splitlines()
                                                               if line.startswith("Hint:")), "").lower()]
+                    pointer = judging.FIRST_FAILURE.format(first=first["name"].split(": ", 1)[1]) if first else None
+                    problems += [f"{task}/{mutant.name}: the later failing test {test['name']} hints elsewhere and does "
+                                 f"not lead with the pointer to the first ({first['name'] if first else '(none)'})"
+                                 for test in elsewhere if not shown_text(test).lstrip().startswith(pointer or "\0")]
                     later_hints.append(f"{task}/{mutant.name}: {len(later) - len(elsewhere)} of {len(later)} later "
-                                       "hints name the bug" + (f"; elsewhere: {', '.join(elsewhere)}" if elsewhere else ""))
+                                       "hints name the bug, the others point to the first failing test"
+                                       + (f" ({', '.join(t['name'].split(': ', 1)[1] for t in elsewhere)})"
+                                          if elsewhere else ""))
                     if first and task in PICTURE_TASKS:
                         drawn = results / "pictures" / f"{first['name'].split(': ', 1)[1]}.svg"
                         if not drawn.is_file() or first.get("output_format") != "html":
