@@ -336,19 +336,31 @@ bool inside_outlines(const std::vector<Outline>& outlines, const Vec2& p) {
 }
 }  // namespace
 
-std::string outside(const Container& container, const Vec2& p, double radius, double slack) {
-  const double table = container.table_radius();
-  if (container.has_table() && p.norm() > table - radius + slack) {
-    return describe("at (", p.x(), ", ", p.y(), ") is outside the table: |r| = ", p.norm(), " > R - radius = ",
-                    table - radius);
-  }
+Outside where_outside(const Container& container, const Vec2& p, double radius, double slack) {
+  if (container.has_table() && p.norm() > container.table_radius() - radius + slack) return Outside::Table;
   const Vec2& period = container.period();
   if (container.periodic() &&
       (p.x() < -slack || p.x() >= period.x() + slack || p.y() < -slack || p.y() >= period.y() + slack)) {
-    return describe("at (", p.x(), ", ", p.y(), ") is outside the periodic box [0, ", period.x(), ") x [0, ", period.y(), ")");
+    return Outside::PeriodicBox;
   }
-  if (!inside_outlines(container.outlines(), p)) return describe("at (", p.x(), ", ", p.y(), ") is outside the walls");
-  return "";
+  if (!inside_outlines(container.outlines(), p)) return Outside::Walls;
+  return Outside::No;
+}
+
+std::string outside(const Container& container, const Vec2& p, double radius, double slack) {
+  const Vec2& period = container.period();
+  switch (where_outside(container, p, radius, slack)) {
+    case Outside::No:
+      return "";
+    case Outside::Table:
+      return describe("at (", p.x(), ", ", p.y(), ") is outside the table: |r| = ", p.norm(), " > R - radius = ",
+                      container.table_radius() - radius);
+    case Outside::PeriodicBox:
+      return describe("at (", p.x(), ", ", p.y(), ") is outside the periodic box [0, ", period.x(), ") x [0, ", period.y(), ")");
+    case Outside::Walls:
+      break;
+  }
+  return describe("at (", p.x(), ", ", p.y(), ") is outside the walls");
 }
 
 std::optional<WallOverlap> overlapped_wall(const Container& container, const Vec2& p, double radius, double slack,

@@ -34,8 +34,11 @@ inline Vec2 minimum_image(const Container& container, Vec2 dr) {
   return dr;
 }
 
-// Why a disc of `radius` centred at p is not inside the container by more than `slack` (the
-// table, the periodic box, the outlines), as the end of a sentence after "disc i"; "" if it is.
+// Whether a disc of `radius` centred at p is inside the container up to `slack`, and if not, what
+// it is outside of (no text: placing discs at random tries many places outside).
+enum class Outside { No, Table, PeriodicBox, Walls };
+Outside where_outside(const Container& container, const Vec2& p, double radius, double slack);
+// The same as the end of a sentence after "disc i"; "" if it is inside.
 std::string outside(const Container& container, const Vec2& p, double radius, double slack);
 
 // Gap between a disc of `radius` at p and a wall: the distance from the disc's edge to the wall,

@@ -392,9 +392,6 @@ int place_at_random(int n, const Vec2& lo, const Vec2& hi, const Container& cont
   return placed;
 }
 
-// 2. Too dense for random addition: the sites of a triangular lattice with spacing just above a
-// diameter (fitted to the period in a periodic box, so that it closes), shuffled. It melts within
-// a few collisions per disc. `placed_at_random` is only for the message.
 // A triangular lattice fitted to a periodic box of sides `period`, rows along x: `columns` sites a
 // row, dx = width / columns apart (at least `spacing`), and an even number of rows (alternate
 // rows are shifted by dx / 2), dy = height / rows apart. Fitting dx to the width stretches it a
@@ -420,6 +417,9 @@ PeriodicLattice periodic_lattice(const Vec2& period, double spacing) {
   return best;
 }
 
+// 2. Too dense for random addition: the sites of a triangular lattice with spacing just above a
+// diameter (fitted to the period in a periodic box, so that it closes), shuffled. It melts within
+// a few collisions per disc. `placed_at_random` is only for the message.
 std::vector<Vec2> lattice_sites(int n, int placed_at_random, double radius, const Vec2& lo, const Vec2& hi,
                                 const Container& container, std::mt19937_64& rng) {
   const double spacing = 2 * radius * (1 + 1e-9);
@@ -511,7 +511,7 @@ int Simulation::add_random_discs(int n, double radius, double mass, double kT, s
   // take 10 s.
   auto try_place = [&](const Vec2& position) {
     int other = -1;
-    if (!outside(e.container, position, radius, 0.0).empty() || overlapped_wall(e.container, position, radius, 0.0) ||
+    if (where_outside(e.container, position, radius, 0.0) != Outside::No || overlapped_wall(e.container, position, radius, 0.0) ||
         (!e.hot.empty() && e.overlaps_existing(position, radius, other))) {
       return false;
     }
