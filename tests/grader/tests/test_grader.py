@@ -400,28 +400,40 @@ class GradesKnownSubmissions(unittest.TestCase):
         _, _, _, _, output = grade(REPO / "solutions", "--task", "init_billiard")
         self.assertNotIn("times slower", output)
 
-    def test_compile_error_costs_only_its_own_task(self):
+    def test_a_compile_error_or_a_missing_file_costs_only_its_own_task(self):
         broken = Path(tempfile.mkdtemp(prefix="broken-")) / "propagate.cpp"
         broken.write_text((REPO / "solutions" / "propagate.cpp").read_text().replace("return next;", "return nxt;"))
         submission = submission_from_solutions(propagate=broken)
+        (submission / course.TASK_FILE["kinetic_energy"]).unlink()  # not handed in at all
         try:
             scores, maxima, report, _, output = grade(submission)
         finally:
             shutil.rmtree(submission)
             shutil.rmtree(broken.parent)
         self.assertEqual(scores["propagate"], 0)
+        self.assertEqual(scores["kinetic_energy"], 0)
         # Another folder than tasks/: the report ends with a summary for whoever grades it.
         self.assertNotIn("Next:", output)
-        self.assertIn(f"Summary: full points in {len(TASKS) - 1} of {len(TASKS)} tasks", output)
+        self.assertIn(f"Summary: full points in {len(TASKS) - 2} of {len(TASKS)} tasks", output)
         summary = output[output.index("Summary:"):output.index("\nresults:")].strip().splitlines()
-        self.assertEqual(len(summary), 2, summary)
-        self.assertIn("propagate: propagate.cpp does not compile (the whole message is above)", summary[-1])
+        self.assertEqual(len(summary), 3, summary)
+        self.assertIn("propagate: propagate.cpp does not compile (the whole message is above)", summary[1] + summary[2])
+        # A missing file is called missing everywhere: the table, the summary, the platform's results.
+        missing = f"{course.TASK_FILE['kinetic_energy']} was not submitted"
+        self.assertIn(f"kinetic_energy: {missing}", "\n".join(summary))
+        table = output[:output.index("Summary:")]
+        self.assertIn(missing, table[table.index("kinetic_energy"):])
+        for line in [line for line in output.splitlines() if "kinetic_energy" in line]:
+            self.assertNotRegex(line, "compil|does not build", line)
+        entry = next(test for test in report["tests"] if test["name"].startswith("kinetic_energy:"))
+        self.assertIn(missing, entry["output"])
+        self.assertNotIn("compil", entry["output"])
         entry = next(test for test in report["tests"] if test["name"].startswith("propagate:"))
         self.assertIn("nxt", entry["output"])
         self.assertEqual(entry["max_score"], maxima["propagate"])
         self.assertGreater(maxima["propagate"], 0)
         for task in TASKS:
-            if task != "propagate":
+            if task not in ("propagate", "kinetic_energy"):
                 self.assertEqual(scores[task], maxima[task], task)
 
 
