@@ -88,9 +88,18 @@ bool Engine::overlaps_existing(const Vec2& position, double radius, int& other) 
     return false;
   }
   const int reach = static_cast<int>(reach_cells);
+  // An image across a face holds a disc that overlaps only if the position lies within a contact
+  // distance of that face (every disc lies in the box): the others are skipped (twice that
+  // distance, against rounding), which finds the same discs in the same order.
+  const Vec2& period = container.period();
+  const double near = 2 * (radius + max_radius);
+  const auto far_from = [&](int shift, double coordinate, double side) {
+    return (shift > 0 && coordinate > near) || (shift < 0 && coordinate < side - near);
+  };
   for (int sy = -images; sy <= images; ++sy) {
     for (int sx = -images; sx <= images; ++sx) {
-      const Vec2 p = position + Vec2(sx * container.period().x(), sy * container.period().y());
+      if (far_from(sx, position.x(), period.x()) || far_from(sy, position.y(), period.y())) continue;
+      const Vec2 p = position + Vec2(sx * period.x(), sy * period.y());
       const std::int64_t cx = hash_column(p.x(), h);
       const std::int64_t cy = hash_column(p.y(), h);
       for (std::int64_t y = cy - reach; y <= cy + reach; ++y) {
