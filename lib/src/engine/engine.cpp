@@ -163,13 +163,13 @@ inline void test_pair(const BigVector<HotDisc>& hot, const Vec2& gravity, int i,
   const Vec2 dv = v - vj;
   const double b = dr.dot(dv);
   if (b >= 0 || j == i) return;  // flying apart (or grazing), or i itself
-  if (moving_along(b, dr.squaredNorm(), dv.squaredNorm())) return;  // grazing, up to rounding
   const double contact = radius + o.radius;
   const double c2 = dr.squaredNorm() - contact * contact;
   // Cheap rejection before the square root: the root c / (-b + sqrt(..)) is at least
   // c / (-2b), so a pair that cannot beat the best event so far is skipped (written as a
   // product, c >= (best - t0) (-2b), to avoid a division).
   if (c2 > 0 && c2 >= (s.contact_time - t0) * (-2 * b)) return;
+  if (moving_along(b, dr.squaredNorm(), dv.squaredNorm())) return;  // grazing, up to rounding
   const double discriminant = b * b - dv.squaredNorm() * c2;
   if (discriminant < 0) return;  // they miss
   // Earlier root of dv.dv t^2 + 2 b t + c = 0, stable form; c < 0 (rounding overlap while
