@@ -95,3 +95,11 @@ def test_the_sweep_example_runs_as_a_script(tmp_path):
     values = {float(eta): float(z) for eta, z in re.findall(r"^eta ([0-9.]+): Z = ([0-9.]+) \+- ", done.stdout, re.M)}
     assert sorted(values) == [0.1, 0.3, 0.5], done.stdout[-3000:]
     assert values[0.1] < values[0.3] < values[0.5]  # the pressure rises with the density
+
+
+def test_the_quoted_refusal_of_another_format_version_names_this_one():
+    data = billiard.Simulation(billiard.periodic_box(5.0, 5.0)).to_bytes()
+    at = len(b"billiard-simulation\0") + 4  # after the byte-order mark
+    this_version = int.from_bytes(data[at:at + 4], sys.byteorder)
+    assert f"reads version {this_version} only" in README.read_text(), "the guide quotes another format version"
+
