@@ -1474,7 +1474,7 @@ Simulation stress_system(Rng& rng, StressCounts& counts, std::string& history) {
   if (!(side > 1e-30 && side < 1e30)) ++counts.extreme_scales;
   int n = static_cast<int>(std::exp(uniform(rng, 0, std::log(300.0))));
   double radius = side * uniform(rng, 0.003, 0.04);
-  if (!(radius >= 1e-50 && radius <= 1e50)) radius = std::clamp(radius, 1e-50, 1e50);
+  radius = std::clamp(radius, 1e-50, 1e50);
   const double mass = pick(rng, std::vector<double>{1.0, 1e-20, 1e20, uniform(rng, 0.5, 2)});
   const double kT = pick(rng, std::vector<double>{1.0, 1.0, 1e-20, 1e20});
   const std::uint64_t seed = rng();

@@ -654,7 +654,7 @@ void Engine::bound_speed(const HotDisc& d) {
   if (speed_squared < slowest_squared && speed_squared > 0) too_slow = true;
   const double reach = speed_bound + gravity_norm * now;
   if (speed_squared <= reach * reach) return;  // (the common case: no square root)
-  speed_bound = d.velocity.norm() - (reach - speed_bound);
+  speed_bound = d.velocity.norm() - gravity_norm * now;  // (so that the bound at now is its speed)
   plan_rebase();
   if (now > rebase_at) rebase();
 }
