@@ -20,7 +20,7 @@ time_limits.py (the limits), reports.py (the table, results.json, junit.xml, rep
 progress.py (the course's tasks, from course.txt) and this command line.
 
 The time limits follow the machine where the reference solutions exist (time_limits.py: ten
-times what the reference needs here, measured once per build folder); otherwise they are fixed
+times what the reference needs here, measured once per build folder and task); otherwise they are fixed
 (--timeout, --task-budget). Either way each task has a budget for compiling its file, linking its
 worker and running its tests, so a submission, however it misbehaves, is graded within the
 grader's own build plus the sum of the budgets, and only the misbehaving task loses points.
@@ -103,7 +103,7 @@ def parse_arguments(argv):
     parser.add_argument("--compile-timeout", type=float, default=60.0,
                         help="with fixed limits, seconds per submitted file, within its task's budget (default 60)")
     parser.add_argument("--total", type=float,
-                        help="seconds the tasks' budgets may add up to at most (a platform's time limit for a "
+                        help="seconds the graded tasks' budgets may add up to at most (a platform's time limit for a "
                              "submission, less its other work): larger budgets are scaled down to fit")
     parser.add_argument("--build-timeout", type=float, default=1800.0,
                         help="seconds for the grader's own build, which does not depend on the submission "
@@ -126,8 +126,9 @@ def parse_arguments(argv):
                         help="also write every task's full results (hidden tests included) to this JSON file, "
                              "for the class report; not for students")
     parser.add_argument("--prepare", action="store_true",
-                        help="only build the grader and measure the reference's times in --build, grading nothing "
-                             "(the class grader's first step on each worker)")
+                        help="only build the grader and measure the reference's times in --build (in the --task "
+                             "tasks, else in every task), grading nothing (the class grader's first step on each "
+                             "machine)")
     parser.add_argument("--cache", type=Path,
                         help="folder to remember results by test and executable checksum, so that unchanged "
                              "suites are not run again (for grading many variants; not for untrusted setups)")
@@ -200,7 +201,7 @@ def grade(arguments):
     with contextlib.closing(lock), protected(arguments.protect_reference, build), cell.Cells(build.launcher, TASKS) as cells:
         print(f"grade: each grading in its cells: {cells.protections.describe()}", flush=True)
         compiler = TaskFileCompiler(build, cells)
-        limits, factor, slower = task_limits(arguments, build, compiler, cells, grading)
+        limits, factor, slower = task_limits(arguments, build, compiler, cells, grading, tasks)
         if building:  # built and measured: other gradings may use the folder now, and so do we
             build.mark_ready(True)
             lock.to_grade()
@@ -208,7 +209,7 @@ def grade(arguments):
         if arguments.prepare:
             print(f"grade: the grader is ready in {arguments.build} ({own_build:.0f} s)", flush=True)
             return []
-        clocks = {task: TaskClock(limits[task]) for task in TASKS}
+        clocks = {task: TaskClock(limits[task]) for task in tasks}
         results = build_suites(build, compiler, staged, problems, tasks, clocks)
         cache = ResultCache(arguments.cache, limits) if arguments.cache else None
         run_tests(results, build, cells, clocks, arguments.jobs, cache)
@@ -313,60 +314,67 @@ def pid_alive(pid):
     return True
 
 
-def task_limits(arguments, build, compiler, cells, grading):
-    """{task: TaskLimits}, the factor by which --total scaled the budgets down (1 if not), and how
-    many times slower this machine is than where the reference's times were measured (1 if not
-    slower). Limits that follow the machine come from the reference's times in the build folder,
-    measured first if they are missing or out of date."""
+def task_limits(arguments, build, compiler, cells, grading, tasks):
+    """{task: TaskLimits} of the graded tasks, the factor by which --total scaled the budgets down
+    (1 if not), and how many times slower this machine is than where the reference's times were
+    measured (the most of any graded task's; 1 if not slower). Limits that follow the machine come
+    from the reference's times in the build folder, measured first for the tasks that miss them."""
     slower = 1.0
     if arguments.limits == "fixed":
         limits = {task: fixed_limits(task, arguments.timeout, arguments.task_budget, arguments.compile_timeout)
-                  for task in TASKS}
+                  for task in tasks}
     else:
-        saved = reference_times(build, compiler, cells, grading, arguments.jobs)
-        slower = time_limits.slower_than_measured(saved)
-        limits = {task: measured_limits(task, saved["tasks"][task], slower) for task in TASKS}
+        saved = reference_times(build, compiler, cells, grading, arguments.jobs, tasks)
+        speed = time_limits.machine_speed()
+        slowness = {task: time_limits.slower_than_measured(saved[task], speed) for task in tasks}
+        slower = max(slowness.values())
+        limits = {task: measured_limits(task, saved[task], slowness[task]) for task in tasks}
     factor = time_limits.fit_total(limits, arguments.total) if arguments.total else 1.0
     return limits, factor, slower
 
 
-def reference_times(build, compiler, cells, grading, jobs):
-    """What the reference solutions need (the saved record, see time_limits.save_reference_times),
-    from the build folder, or measured now by grading them (every test twice, keeping the longer
-    time) and saved there."""
+def reference_times(build, compiler, cells, grading, jobs, tasks):
+    """{task: what the reference solution needs} for `tasks` (see time_limits.save_reference_times),
+    from the build folder, the tasks not measured there yet measured now by grading the reference
+    in them (every test twice, keeping the longer time) and saved there."""
     catalogs = [build.judge(task) for task in TASKS]
     solutions = [REPO / "solutions" / TASK_FILE[task] for task in TASKS]
     expected = time_limits.fingerprint(catalogs + solutions, compiler.commands)
     saved = time_limits.load_reference_times(build.folder, expected)
-    if saved:
+    if all(task in saved for task in tasks):
         return saved
-    print("grade: measuring what the reference solutions need on this machine (once for this build folder)",
-          flush=True)
-    staged, problems = stage_submission(REPO / "solutions", grading, name="reference")
-    os.chmod(staged, 0o700)  # the reference code, for the grader's eyes only
-    generous = {task: fixed_limits(task, 60.0, 600.0, 120.0) for task in TASKS}
-    clocks = {task: TaskClock(generous[task]) for task in TASKS}
-    results = build_suites(build, compiler, staged, problems, TASKS, clocks, remembered=False, quiet=True)
-    longest = {}
-    for _ in range(2):
-        for clock in clocks.values():
-            clock.left = clock.limits.budget
-        run_tests(results, build, cells, clocks, jobs, cache=None, quiet=True)
-        for result in results:
-            for test in result.tests:
-                cpu, wall = longest.get(test.name, (0.0, 0.0))
-                longest[test.name] = (max(cpu, test.cpu_seconds), max(wall, test.seconds))
-    failing = [f"{result.task}: {result.problem or ', '.join(t.name for t in result.tests if not t.passed)}"
-               for result in results if result.problem or result.score < result.maximum]
-    if failing:
-        raise RuntimeError("the reference solutions do not pass every test here, so their times cannot set the "
-                           "limits:\n" + "\n".join(failing))
-    times = {result.task: {"compile": result.compile_seconds, "link": result.link_seconds,
-                           "tests": {test.name: {"cpu": longest[test.name][0], "wall": longest[test.name][1]}
-                                     for test in result.tests}}
-             for result in results}
-    time_limits.save_reference_times(build.folder, expected, times)
-    return time_limits.load_reference_times(build.folder, expected)
+    with contextlib.closing(time_limits.reference_times_lock(build.folder)):
+        saved = time_limits.load_reference_times(build.folder, expected)  # another grading's, meanwhile
+        missing = [task for task in TASKS if task in tasks and task not in saved]
+        if not missing:
+            return saved
+        print(f"grade: measuring what the reference solutions need on this machine in {', '.join(missing)} (once "
+              "for this build folder)", flush=True)
+        staged, problems = stage_submission(REPO / "solutions", grading, name="reference")
+        os.chmod(staged, 0o700)  # the reference code, for the grader's eyes only
+        generous = {task: fixed_limits(task, 60.0, 600.0, 120.0) for task in missing}
+        clocks = {task: TaskClock(generous[task]) for task in missing}
+        results = build_suites(build, compiler, staged, problems, missing, clocks, remembered=False, quiet=True)
+        longest = {}
+        for _ in range(2):
+            for clock in clocks.values():
+                clock.left = clock.limits.budget
+            run_tests(results, build, cells, clocks, jobs, cache=None, quiet=True)
+            for result in results:
+                for test in result.tests:
+                    cpu, wall = longest.get(test.name, (0.0, 0.0))
+                    longest[test.name] = (max(cpu, test.cpu_seconds), max(wall, test.seconds))
+        failing = [f"{result.task}: {result.problem or ', '.join(t.name for t in result.tests if not t.passed)}"
+                   for result in results if result.problem or result.score < result.maximum]
+        if failing:
+            raise RuntimeError("the reference solutions do not pass every test here, so their times cannot set the "
+                               "limits:\n" + "\n".join(failing))
+        times = {result.task: {"compile": result.compile_seconds, "link": result.link_seconds,
+                               "tests": {test.name: {"cpu": longest[test.name][0], "wall": longest[test.name][1]}
+                                         for test in result.tests}}
+                 for result in results}
+        time_limits.save_reference_times(build.folder, expected, times)
+        return time_limits.load_reference_times(build.folder, expected)
 
 
 def limits_summary(limits, tasks, factor, slower):

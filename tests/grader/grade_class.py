@@ -606,7 +606,7 @@ def run_pending(arguments, results, pending, progress):
     failures = []
     futures = {}
     try:
-        prepare(client, repo)
+        prepare(client, repo, sorted({task for _, stale, _ in pending for task in stale}, key=TASKS.index))
         for student, stale, keys in pending:
             files = {TASK_FILE[task]: text for task, text in student.files.items()}
             future = client.submit(grade_on_worker, repo, files, grading_options(stale, jobs=1), STUDENT_CUTOFF, pure=False,
@@ -630,16 +630,16 @@ def run_pending(arguments, results, pending, progress):
     return failures
 
 
-def prepare(client, repo):
-    """Has the grader built (and the reference's times measured) once on each machine, before
-    grading: one progress step with its time, not hidden in the first student's."""
+def prepare(client, repo, tasks):
+    """Has the grader built (and the reference's times measured in the tasks to grade) once on each
+    machine, before grading: one progress step with its time, not hidden in the first student's."""
     started = time.monotonic()
     workers = client.scheduler_info()["workers"]
     one_per_machine = list({info["host"]: address for address, info in workers.items()}.values())
     machines = f"{len(one_per_machine)} machine{'s' if len(one_per_machine) > 1 else ''}"
     print(f"grade: building the grader once on {machines} for {len(workers)} workers (a few minutes the first time, "
           "seconds after)", flush=True)
-    futures = [client.submit(grade_on_worker, repo, None, grading_options([]), STUDENT_CUTOFF, pure=False, workers=[address],
+    futures = [client.submit(grade_on_worker, repo, None, grading_options(tasks), STUDENT_CUTOFF, pure=False, workers=[address],
                              allow_other_workers=False, key=f"prepare-{address}-{time.time_ns()}")
                for address in one_per_machine]
     try:

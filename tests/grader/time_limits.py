@@ -2,8 +2,9 @@
 
 Where the reference solutions exist (the instructors' repository and the platforms' packages),
 the limits follow the machine that grades: the grader first measures what the reference
-solutions need there (once per build folder, in its reference-times.json; the platforms' set-up
-scripts do it when they grade the reference solutions), then gives
+solutions need there (once per build folder and task, for the tasks it grades, in its
+reference-times.json; the platforms' set-up scripts do it when they grade the reference
+solutions), then gives
 
   - each test MARGIN times the CPU time the reference takes for it, at least MIN_TEST_SECONDS;
   - each task MARGIN times the reference's time for the whole task (compiling its file, linking
@@ -116,10 +117,10 @@ def machine_speed():
     return fastest
 
 
-def slower_than_measured(saved):
-    """How many times slower this machine is than the one the saved reference times come from, if
-    more than SLOWER_MACHINE; else 1."""
-    ratio = machine_speed() / saved["speed"] if saved.get("speed") else 1.0
+def slower_than_measured(times, speed):
+    """How many times slower this machine (whose machine_speed() is `speed`) is than the one where
+    a task's saved reference times were measured, if more than SLOWER_MACHINE; else 1."""
+    ratio = speed / times["speed"] if times.get("speed") else 1.0
     return ratio if ratio > SLOWER_MACHINE else 1.0
 
 
@@ -137,7 +138,7 @@ def machine():
     return f"{model}, {cores} core{'' if cores == 1 else 's'} usable"
 
 
-RECORD_FORMAT = 2  # of reference-times.json: a record of another format is measured again
+RECORD_FORMAT = 3  # of reference-times.json: a record of another format is measured again
 
 
 def fingerprint(paths, words):
@@ -150,15 +151,13 @@ def fingerprint(paths, words):
 
 
 def load_reference_times(build_folder, expected_fingerprint):
-    """{task: times} measured in this build folder, or None when missing or out of date."""
-    path = Path(build_folder) / REFERENCE_TIMES
+    """{task: times} of the tasks measured in this build folder (see save_reference_times); empty
+    when none is, or the record is out of date."""
     try:
-        saved = json.loads(path.read_text())
+        saved = json.loads((Path(build_folder) / REFERENCE_TIMES).read_text())
     except (OSError, ValueError):
-        return None
-    if saved.get("fingerprint") != expected_fingerprint:
-        return None
-    return saved
+        return {}
+    return saved["tasks"] if saved.get("fingerprint") == expected_fingerprint else {}
 
 
 def saved_limits(build_folder):
@@ -172,13 +171,27 @@ def saved_limits(build_folder):
 
 
 def save_reference_times(build_folder, print_, tasks):
-    """Writes the reference's times: {"fingerprint", "machine", "speed" (machine_speed()), "tasks":
-    {task: {"compile", "link", "tests": {name: {"cpu", "wall"}}}}}."""
+    """Adds tasks' reference times to the record of a build folder (replacing it if its
+    fingerprint differs): {"fingerprint", "machine", "tasks": {task: {"speed" (machine_speed()
+    when they were measured), "compile", "link", "tests": {name: {"cpu", "wall"}}}}}. The caller
+    holds reference_times_lock()."""
     path = Path(build_folder) / REFERENCE_TIMES
+    speed = machine_speed()
+    record = {"fingerprint": print_, "machine": machine(),
+              "tasks": load_reference_times(build_folder, print_) | {task: times | {"speed": speed}
+                                                                    for task, times in tasks.items()}}
     partial = path.with_name(path.name + ".partial")
-    partial.write_text(json.dumps({"fingerprint": print_, "machine": machine(), "speed": machine_speed(),
-                                   "tasks": tasks}, indent=1) + "\n")
+    partial.write_text(json.dumps(record, indent=1) + "\n")
     os.replace(partial, path)
+
+
+def reference_times_lock(build_folder):
+    """An open file holding the lock under which a grading measures the reference's times in a
+    build folder, so that gradings sharing it measure each task once."""
+    import fcntl
+    lock = open(Path(build_folder) / (REFERENCE_TIMES + ".lock"), "w")
+    fcntl.flock(lock, fcntl.LOCK_EX)
+    return lock
 
 
 class TaskClock:

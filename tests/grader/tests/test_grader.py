@@ -380,11 +380,12 @@ class GradesKnownSubmissions(unittest.TestCase):
         # this machine slower and scales the limits with it.
         limits = time_limits
         path = BUILD / limits.REFERENCE_TIMES
-        grade(REPO / "solutions", "--task", "kinetic_energy")  # the reference's times are measured
+        grade(REPO / "solutions", "--task", "init_billiard")  # the reference's times are measured
         saved = path.read_text()
         record = json.loads(saved)
         normal = limits.saved_limits(BUILD)["init_billiard"].budget
-        record["speed"] /= 2
+        for times in record["tasks"].values():
+            times["speed"] /= 2
         try:
             path.write_text(json.dumps(record))
             scores, maxima, _, _, output = grade(REPO / "solutions", "--task", "init_billiard")
@@ -399,6 +400,27 @@ class GradesKnownSubmissions(unittest.TestCase):
         # And with the times of this machine, no scaling.
         _, _, _, _, output = grade(REPO / "solutions", "--task", "init_billiard")
         self.assertNotIn("times slower", output)
+
+    def test_the_reference_is_measured_in_the_graded_tasks_only(self):
+        # A grading measures the reference's times in the tasks it grades that miss them, adds
+        # them to what the build folder has, and measures nothing a second time.
+        path = BUILD / time_limits.REFERENCE_TIMES
+        grade(REPO / "solutions", "--task", "kinetic_energy")
+        saved = path.read_text()
+        record = json.loads(saved)
+        kept = record["tasks"]["kinetic_energy"]
+        record["tasks"] = {"kinetic_energy": kept}
+        try:
+            path.write_text(json.dumps(record))
+            _, _, _, _, output = grade(REPO / "solutions", "--task", "visualize_table")
+            measured = json.loads(path.read_text())["tasks"]
+            _, _, _, _, again = grade(REPO / "solutions", "--task", "visualize_table", "--task", "kinetic_energy")
+        finally:
+            path.write_text(saved)
+        self.assertIn("measuring what the reference solutions need on this machine in visualize_table (", output)
+        self.assertEqual(sorted(measured), ["kinetic_energy", "visualize_table"])
+        self.assertEqual(measured["kinetic_energy"], kept)
+        self.assertNotIn("measuring", again)
 
     def test_a_compile_error_or_a_missing_file_costs_only_its_own_task(self):
         broken = Path(tempfile.mkdtemp(prefix="broken-")) / "propagate.cpp"
