@@ -285,7 +285,7 @@ std::string run(const Input& input, const Options& options) {
   settings.exchange_velocities = !options.physical;
   billiard::Simulation sim(billiard::box({0, 0}, {input.lx, input.ly}), settings);
   if (n > 0) {
-    billiard::Points positions(static_cast<Eigen::Index>(n), 2), velocities(static_cast<Eigen::Index>(n), 2);
+    billiard::Coordinates positions(static_cast<Eigen::Index>(n), 2), velocities(static_cast<Eigen::Index>(n), 2);
     for (std::size_t i = 0; i < n; ++i) {
       const auto row = static_cast<Eigen::Index>(i);
       positions.row(row) << input.values[4 * i], input.values[4 * i + 1];

@@ -46,7 +46,7 @@
 
 namespace {
 
-using billiard::Vec2;
+using billiard::Vector;
 using Clock = std::chrono::steady_clock;
 
 // CPU time of this thread in seconds: the rate of one core, insensitive to other processes
@@ -67,9 +67,9 @@ void granular_settling(const std::string& container, long n, double restitution,
   // the floor exactly, the hardest case (without sleeping it rattles ever faster).
   const double width = 2 * std::floor(std::sqrt(area / 2.9) / 2);
   billiard::Settings settings;
-  settings.gravity = Vec2(0, -1);
+  settings.gravity = Vector(0, -1);
   settings.restitution.normal = restitution;
-  billiard::Simulation sim(container == "box" ? billiard::box(Vec2(0, 0), Vec2(width, area / width))
+  billiard::Simulation sim(container == "box" ? billiard::box(Vector(0, 0), Vector(width, area / width))
                                               : billiard::circular_table(std::sqrt(area / kPi)),
                            settings);
   sim.add_random_discs(static_cast<int>(n), 1.0, 1.0, 1.0, 11);
@@ -116,8 +116,8 @@ struct Row {
 
 // Square lattice of n points with spacing `spacing`, centred on the origin, keeping only points
 // that `inside` accepts (for the table); returns at most n points.
-billiard::Points lattice(long n, double spacing, const Vec2& origin, long per_row) {
-  billiard::Points points(n, 2);
+billiard::Coordinates lattice(long n, double spacing, const Vector& origin, long per_row) {
+  billiard::Coordinates points(n, 2);
   for (long k = 0; k < n; ++k) {
     points(k, 0) = origin.x() + (0.5 + static_cast<double>(k % per_row)) * spacing;
     points(k, 1) = origin.y() + (0.5 + static_cast<double>(k / per_row)) * spacing;
@@ -132,24 +132,24 @@ billiard::Simulation make_system(const std::string& container, long n, double de
                                  double cell, std::mt19937_64& rng) {
   const double area = static_cast<double>(n) * M_PI / density;  // radius 1
   std::optional<billiard::Container> shape;
-  billiard::Points positions;
+  billiard::Coordinates positions;
   // Curved containers: a square lattice clipped to the points whose discs fit (clear of the walls
   // by 1e-7), the spacing shrunk until n fit.
-  std::function<bool(const Vec2&)> fits;
+  std::function<bool(const Vector&)> fits;
   double reach = 0;         // the lattice covers [-reach, reach]^2
   double fitting_area = 0;  // roughly where centres fit: the first spacing tried fills it
   if (container == "table") {
     const double radius = std::sqrt(area / M_PI);
     shape = billiard::circular_table(radius);
-    fits = [radius](const Vec2& p) { return p.norm() <= radius - 1.0000001; };
+    fits = [radius](const Vector& p) { return p.norm() <= radius - 1.0000001; };
     reach = radius;
     fitting_area = M_PI * (radius - 1) * (radius - 1);
   } else if (container == "stadium") {
     // Straight sides as long as the diameter: area = (pi + 4) R^2.
     const double radius = std::sqrt(area / (M_PI + 4));
-    shape = billiard::stadium(Vec2(0, 0), radius, 2 * radius);
-    fits = [radius](const Vec2& p) {
-      const Vec2 nearest_centre(std::clamp(p.x(), -radius, radius), 0.0);
+    shape = billiard::stadium(Vector(0, 0), radius, 2 * radius);
+    fits = [radius](const Vector& p) {
+      const Vector nearest_centre(std::clamp(p.x(), -radius, radius), 0.0);
       return (p - nearest_centre).norm() <= radius - 1.0000001;
     };
     reach = 2 * radius;
@@ -157,8 +157,8 @@ billiard::Simulation make_system(const std::string& container, long n, double de
   } else if (container == "sinai") {
     // A square of side s with an obstacle of radius s / 4 in the middle: area = (1 - pi / 16) s^2.
     const double side = std::sqrt(area / (1 - M_PI / 16));
-    shape = billiard::sinai_billiard(Vec2(-side / 2, -side / 2), Vec2(side / 2, side / 2), side / 4);
-    fits = [side](const Vec2& p) {
+    shape = billiard::sinai_billiard(Vector(-side / 2, -side / 2), Vector(side / 2, side / 2), side / 4);
+    fits = [side](const Vector& p) {
       return p.cwiseAbs().maxCoeff() <= side / 2 - 1.0000001 && p.norm() >= side / 4 + 1.0000001;
     };
     reach = side / 2;
@@ -166,13 +166,13 @@ billiard::Simulation make_system(const std::string& container, long n, double de
   }
   if (fits) {
     double spacing = std::sqrt(fitting_area / static_cast<double>(n));
-    std::vector<Vec2> points;
+    std::vector<Vector> points;
     while (true) {
       points.clear();
       const long half = static_cast<long>(std::ceil(reach / spacing)) + 1;
       for (long iy = -half; iy <= half; ++iy) {
         for (long ix = -half; ix <= half; ++ix) {
-          const Vec2 p((static_cast<double>(ix) + 0.5) * spacing, (static_cast<double>(iy) + 0.5) * spacing);
+          const Vector p((static_cast<double>(ix) + 0.5) * spacing, (static_cast<double>(iy) + 0.5) * spacing);
           if (fits(p)) points.push_back(p);
         }
       }
@@ -185,7 +185,7 @@ billiard::Simulation make_system(const std::string& container, long n, double de
     }
     std::shuffle(points.begin(), points.end(), rng);
     positions.resize(n, 2);
-    for (long k = 0; k < n; ++k) positions.row(k) = points[k].transpose();
+    for (long k = 0; k < n; ++k) positions.row(k) = points[k];
   } else {
     const double side = std::sqrt(area);
     const long per_row = static_cast<long>(std::ceil(std::sqrt(static_cast<double>(n))));
@@ -197,15 +197,15 @@ billiard::Simulation make_system(const std::string& container, long n, double de
     if (container == "periodic") {
       shape = billiard::periodic_box(side, side);
     } else {
-      shape = billiard::box(Vec2(0, 0), Vec2(side, side));
+      shape = billiard::box(Vector(0, 0), Vector(side, side));
     }
-    positions = lattice(n, spacing, Vec2(0, 0), per_row);
+    positions = lattice(n, spacing, Vector(0, 0), per_row);
   }
   std::normal_distribution<double> normal(0.0, 1.0);
-  billiard::Points velocities(n, 2);
+  billiard::Velocities velocities(n, 2);
   for (long k = 0; k < n; ++k) velocities.row(k) << normal(rng), normal(rng);
   billiard::Settings settings;
-  if (gravity) settings.gravity = Vec2(0, -0.1);  // weak: a fall of 10 radii gains a speed ~1.4
+  if (gravity) settings.gravity = Vector(0, -0.1);  // weak: a fall of 10 radii gains a speed ~1.4
   if (cell > 0) settings.cell_size = cell;
   settings.prefetch = prefetch_mode;
   billiard::Simulation sim(*shape, settings);

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "billiard/course.hpp"
-#include "billiard/engine/vec2.hpp"
+#include "billiard/engine/plane.hpp"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -12,8 +12,7 @@
 
 namespace billiard::python {
 
-// The course's n by 2 arrays (Coordinates, Velocities) and the engine's (Points) by their own
-// names (lib/DESIGN.md, "Names of the data").
+// n by 2 arrays are Coordinates (billiard/vectors.hpp) in both layers.
 
 // An n by 2 float64 numpy array as an Eigen matrix (a copy). With `writable`, the array must
 // also be one we can write the result back into: float64, C-contiguous, writeable.
@@ -23,16 +22,13 @@ Coordinates from_numpy(const pybind11::array& array, const char* name, bool writ
 void write_back(const Coordinates& matrix, pybind11::array& array);
 
 // A point (x, y): two real numbers in any sequence or array; `name` is the argument's name.
-Vec2 to_vec2(const pybind11::object& value, const char* name);
+Vector to_vector(const pybind11::object& value, const char* name);
 
-// An n by 2 array of real numbers from any array-like value, as the engine's row-major points.
-Points to_points(const pybind11::object& value, const char* name);
+// An n by 2 array of real numbers from any array-like value.
+Coordinates to_coordinates(const pybind11::object& value, const char* name);
 
-// A new n by 2 float64 numpy array.
+// New numpy arrays: an n by 2 float64 array, and a vector.
 pybind11::array_t<double> to_numpy(const Coordinates& matrix);
-
-// New numpy arrays: an n by 2 float64 array of the engine's row-major points, and a vector.
-pybind11::array_t<double> points(const Points& p);
 pybind11::array_t<double> vector(const Eigen::VectorXd& v);
 
 // repr(value) for an error message, at most about 60 characters (and never an error itself).

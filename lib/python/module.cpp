@@ -57,18 +57,17 @@ void write_back(const Coordinates& matrix, py::array& array) {
 }
 
 // (ensure() gives a null array when numpy cannot read the value at all.)
-Vec2 to_vec2(const py::object& value, const char* name) {
+Vector to_vector(const py::object& value, const char* name) {
   py::array array = py::array::ensure(value);
   if (!array || array.size() != 2) {
     throw std::invalid_argument(std::string(name) + " must be a point (x, y) of two numbers, got " + short_repr(value));
   }
   const Coordinates m = from_numpy(array.reshape({1, 2}), name);
-  return Vec2(m(0, 0), m(0, 1));
+  return m.row(0);
 }
 
-Points to_points(const py::object& value, const char* name) {
-  const Coordinates m = from_numpy(py::array::ensure(value), name);  // (from_numpy refuses a null array)
-  return m;
+Coordinates to_coordinates(const py::object& value, const char* name) {
+  return from_numpy(py::array::ensure(value), name);  // (from_numpy refuses a null array)
 }
 
 std::string short_repr(const py::handle& value) {
@@ -90,8 +89,6 @@ py::array_t<double> to_numpy(const Coordinates& matrix) {
   }
   return out;
 }
-
-py::array_t<double> points(const Points& p) { return to_numpy(Coordinates(p)); }
 
 py::array_t<double> vector(const Eigen::VectorXd& v) {
   py::array_t<double> out(static_cast<py::ssize_t>(v.size()));

@@ -53,8 +53,8 @@ std::vector<double> to_values(const py::object& value, const char* name) {
 py::dict state_dict(const Simulation& sim, const State& state) {
   py::dict d;
   d["time"] = state.time;
-  d["position"] = points(state.positions);
-  d["velocity"] = points(state.velocities);
+  d["position"] = to_numpy(state.positions);
+  d["velocity"] = to_numpy(state.velocities);
   d["spin"] = vector(state.spins);
   d["mass"] = vector(sim.masses());
   d["radius"] = vector(sim.radii());
@@ -66,7 +66,7 @@ py::dict event_log_dict(const std::vector<EventRecord>& log) {
   const auto k = static_cast<py::ssize_t>(log.size());
   py::array_t<double> time(k), spin(k), other_spin(k);
   py::array_t<int> kind(k), disc(k), other(k), wall(k);
-  Points position(k, 2), velocity(k, 2), other_position(k, 2), other_velocity(k, 2);
+  Coordinates position(k, 2), velocity(k, 2), other_position(k, 2), other_velocity(k, 2);
   for (py::ssize_t n = 0; n < k; ++n) {
     const EventRecord& e = log[static_cast<std::size_t>(n)];
     time.mutable_at(n) = e.time;
@@ -76,10 +76,10 @@ py::dict event_log_dict(const std::vector<EventRecord>& log) {
     wall.mutable_at(n) = e.wall;
     spin.mutable_at(n) = e.spin;
     other_spin.mutable_at(n) = e.other_spin;
-    position.row(n) = e.position.transpose();
-    velocity.row(n) = e.velocity.transpose();
-    other_position.row(n) = e.other_position.transpose();
-    other_velocity.row(n) = e.other_velocity.transpose();
+    position.row(n) = e.position;
+    velocity.row(n) = e.velocity;
+    other_position.row(n) = e.other_position;
+    other_velocity.row(n) = e.other_velocity;
   }
   py::dict d;
   d["time"] = time;
@@ -87,11 +87,11 @@ py::dict event_log_dict(const std::vector<EventRecord>& log) {
   d["disc"] = disc;
   d["other"] = other;
   d["wall"] = wall;
-  d["position"] = points(position);
-  d["velocity"] = points(velocity);
+  d["position"] = to_numpy(position);
+  d["velocity"] = to_numpy(velocity);
   d["spin"] = spin;
-  d["other_position"] = points(other_position);
-  d["other_velocity"] = points(other_velocity);
+  d["other_position"] = to_numpy(other_position);
+  d["other_velocity"] = to_numpy(other_velocity);
   d["other_spin"] = other_spin;
   return d;
 }
@@ -121,7 +121,7 @@ py::list walls_list(const Container& c) {
   return out;
 }
 
-py::tuple pair(const Vec2& v) { return py::make_tuple(v.x(), v.y()); }
+py::tuple pair(const Vector& v) { return py::make_tuple(v.x(), v.y()); }
 
 // "1 segment", "4 points": a count and a noun.
 std::string counted(std::size_t n, const char* noun) { return std::to_string(n) + " " + noun + (n == 1 ? "" : "s"); }
@@ -230,7 +230,7 @@ counter-clockwise from +x.)");
       .def(
           "add_segment",
           [](Container& c, const py::object& a, const py::object& b) {
-            return c.add_segment(to_vec2(a, "add_segment: a"), to_vec2(b, "add_segment: b"));
+            return c.add_segment(to_vector(a, "add_segment: a"), to_vector(b, "add_segment: b"));
           },
           py::arg("a"), py::arg("b"),
           "A straight wall from a to b (both faces, and its end points); returns its index in walls. Not in a\n"
@@ -238,7 +238,7 @@ counter-clockwise from +x.)");
       .def(
           "add_arc",
           [](Container& c, const py::object& centre, double radius, double start_angle, double end_angle) {
-            return c.add_arc(to_vec2(centre, "add_arc: centre"), radius, start_angle, end_angle);
+            return c.add_arc(to_vector(centre, "add_arc: centre"), radius, start_angle, end_angle);
           },
           py::arg("centre"), py::arg("radius"), py::arg("start_angle"), py::arg("end_angle"),
           "A circular arc wall (both faces, and its end points), counter-clockwise from start_angle to end_angle\n"
@@ -250,7 +250,7 @@ counter-clockwise from +x.)");
       .def(
           "add_obstacle",
           [](Container& c, const py::object& centre, double radius) {
-            c.add_obstacle(to_vec2(centre, "add_obstacle: centre"), radius);
+            c.add_obstacle(to_vector(centre, "add_obstacle: centre"), radius);
           },
           py::arg("centre"), py::arg("radius"),
           "A disc obstacle: a whole circle that discs stay outside of. Not in a periodic box.")
@@ -266,7 +266,7 @@ counter-clockwise from +x.)");
       .def_property_readonly(
           "bounds",
           [](const Container& c) {
-            Vec2 lower, upper;
+            Vector lower, upper;
             bounds(c, lower, upper);
             return py::make_tuple(pair(lower), pair(upper));
           },
@@ -287,17 +287,17 @@ counter-clockwise from +x.)");
   m.def(
       "box",
       [](const py::object& lower, const py::object& upper) {
-        return box(to_vec2(lower, "box: lower"), to_vec2(upper, "box: upper"));
+        return box(to_vector(lower, "box: lower"), to_vector(upper, "box: upper"));
       },
       py::arg("lower"), py::arg("upper"),
       "The axis-aligned box [lower, upper] (points (x, y)): four walls, discs inside.");
   m.def(
-      "polygon", [](const py::object& vertices) { return polygon(to_points(vertices, "polygon: vertices")); },
+      "polygon", [](const py::object& vertices) { return polygon(to_coordinates(vertices, "polygon: vertices")); },
       py::arg("vertices"), "A closed polygon, vertices (n, 2) in order (n >= 3): one wall per side, discs inside.");
   m.def(
       "stadium",
       [](const py::object& centre, double radius, double length) {
-        return stadium(to_vec2(centre, "stadium: centre"), radius, length);
+        return stadium(to_vector(centre, "stadium: centre"), radius, length);
       },
       py::arg("centre"), py::arg("radius"), py::arg("length"),
       "A stadium: half circles of radius whose centres are length apart (horizontally, about centre),\n"
@@ -305,7 +305,7 @@ counter-clockwise from +x.)");
   m.def(
       "sinai_billiard",
       [](const py::object& lower, const py::object& upper, double obstacle_radius) {
-        return sinai_billiard(to_vec2(lower, "sinai_billiard: lower"), to_vec2(upper, "sinai_billiard: upper"),
+        return sinai_billiard(to_vector(lower, "sinai_billiard: lower"), to_vector(upper, "sinai_billiard: upper"),
                               obstacle_radius);
       },
       py::arg("lower"), py::arg("upper"), py::arg("obstacle_radius"),
@@ -313,7 +313,7 @@ counter-clockwise from +x.)");
   m.def(
       "mushroom",
       [](const py::object& centre, double cap_radius, double stem_width, double stem_height) {
-        return mushroom(to_vec2(centre, "mushroom: centre"), cap_radius, stem_width, stem_height);
+        return mushroom(to_vector(centre, "mushroom: centre"), cap_radius, stem_width, stem_height);
       },
       py::arg("centre"), py::arg("cap_radius"), py::arg("stem_width"), py::arg("stem_height"),
       "A mushroom: a half-disc cap above centre (the middle of its flat side) on a stem_width x stem_height\n"
@@ -321,7 +321,7 @@ counter-clockwise from +x.)");
   m.def(
       "union_of_circles",
       [](const py::object& centres, const py::object& radii) {
-        return union_of_circles(to_points(centres, "union_of_circles: centres"),
+        return union_of_circles(to_coordinates(centres, "union_of_circles: centres"),
                                 to_values(radii, "union_of_circles: radii"));
       },
       py::arg("centres"), py::arg("radii"),
@@ -347,7 +347,7 @@ with the simulation's setters of the same names.)");
                        std::optional<double> contact_duration, std::optional<double> elastic_impact_speed,
                        std::optional<double> sleep_speed, double cell_size, const py::object& prefetch) {
              Settings s;
-             s.gravity = to_vec2(gravity, "settings.gravity");
+             s.gravity = to_vector(gravity, "settings.gravity");
              s.restitution = to_restitution(restitution, "settings.restitution");
              s.exchange_velocities = exchange_velocities;
              s.contact_duration = contact_duration;
@@ -364,7 +364,7 @@ with the simulation's setters of the same names.)");
            "Settings with these values; the defaults are no gravity, smooth elastic discs, automatic choices.")
       .def_property(
           "gravity", [](const Settings& s) { return pair(s.gravity); },
-          [](Settings& s, const py::object& g) { s.gravity = to_vec2(g, "settings.gravity"); },
+          [](Settings& s, const py::object& g) { s.gravity = to_vector(g, "settings.gravity"); },
           "Uniform gravity (gx, gy); default (0, 0). In a periodic box it moves every disc alike: the discs are\n"
           "simulated in the freely falling frame (their relative motion as precise as without gravity) and the\n"
           "fall is added to what the simulation reports.")
@@ -518,8 +518,8 @@ inertia (n,). Bad input raises ValueError naming the argument (and the disc) and
           [](Simulation& s, const py::object& position, const py::object& velocity, double radius, double mass,
              std::optional<double> inertia, double spin) {
             Disc d;
-            d.position = to_vec2(position, "position");
-            d.velocity = to_vec2(velocity, "velocity");
+            d.position = to_vector(position, "position");
+            d.velocity = to_vector(velocity, "velocity");
             d.radius = radius;
             d.mass = mass;
             d.inertia = inertia;
@@ -532,7 +532,7 @@ inertia (n,). Bad input raises ValueError naming the argument (and the disc) and
       .def(
           "add_discs",
           [](Simulation& s, const py::object& positions, const py::object& velocities, double radius, double mass) {
-            return s.add_discs(to_points(positions, "positions"), to_points(velocities, "velocities"), radius, mass);
+            return s.add_discs(to_coordinates(positions, "positions"), to_coordinates(velocities, "velocities"), radius, mass);
           },
           py::arg("positions"), py::arg("velocities"), py::arg("radius"), py::arg("mass") = 1.0,
           "Adds discs of one radius and mass (positions, velocities: (n, 2)); all or nothing. Returns the first index.")

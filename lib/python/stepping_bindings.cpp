@@ -65,18 +65,18 @@ class PythonLevelSet final : public LevelSet {
     omega_ = py::function();
     grad_ = py::function();
   }
-  Eigen::VectorXd values(const Points& at) const override {
+  Eigen::VectorXd values(const Coordinates& at) const override {
     const auto n = static_cast<py::ssize_t>(at.rows());
-    const auto array = returned_array(omega_(points(at)), "omega", n, 0);
+    const auto array = returned_array(omega_(to_numpy(at)), "omega", n, 0);
     Eigen::VectorXd w(at.rows());
     const auto view = array.unchecked<1>();
     for (py::ssize_t i = 0; i < n; ++i) w[i] = view(i);
     return w;
   }
-  Points gradients(const Points& at) const override {
+  Coordinates gradients(const Coordinates& at) const override {
     const auto n = static_cast<py::ssize_t>(at.rows());
-    const auto array = returned_array(grad_(points(at)), "grad", n, 2);
-    Points g(at.rows(), 2);
+    const auto array = returned_array(grad_(to_numpy(at)), "grad", n, 2);
+    Coordinates g(at.rows(), 2);
     const auto view = array.unchecked<2>();
     for (py::ssize_t i = 0; i < n; ++i) {
       g(i, 0) = view(i, 0);
@@ -135,8 +135,8 @@ py::dict state_dict(const Stepper& stepper, const StepperState& state) {
   py::dict d;
   d["time"] = state.time;
   d["steps"] = state.steps;
-  d["position"] = points(state.positions);
-  d["velocity"] = points(state.velocities);
+  d["position"] = to_numpy(state.positions);
+  d["velocity"] = to_numpy(state.velocities);
   d["part"] = counts(state.parts);
   d["reflections"] = counts(state.reflections);
   d["energy"] = vector(stepping::energies(state, stepper.gravity()));
@@ -151,24 +151,24 @@ void bind_stepping(py::module_& parent) {
   py::class_<Part>(m, "LevelSet", R"(One region {x : omega(x) > 0}: made by circle, ellipse, box or level_set.
 omega(points) and grad(points) evaluate it at points (n, 2).)")
       .def(
-          "omega", [](const Part& p, const py::object& at) { return vector(p.level_set->values(to_points(at, "points"))); },
+          "omega", [](const Part& p, const py::object& at) { return vector(p.level_set->values(to_coordinates(at, "points"))); },
           py::arg("points"), "omega at each row of points (n, 2): shape (n,).")
       .def(
-          "grad", [](const Part& p, const py::object& at) { return points(p.level_set->gradients(to_points(at, "points"))); },
+          "grad", [](const Part& p, const py::object& at) { return to_numpy(p.level_set->gradients(to_coordinates(at, "points"))); },
           py::arg("points"), "The gradient of omega at each row of points (n, 2): shape (n, 2).")
       .def("__repr__", [](const Part& p) { return p.description; });
 
   m.def(
       "circle",
       [](const py::object& centre, double radius) {
-        return Part{stepping::circle(to_vec2(centre, "centre"), radius),
+        return Part{stepping::circle(to_vector(centre, "centre"), radius),
                     "circle(centre=" + short_repr(centre) + ", radius=" + short_repr(py::float_(radius)) + ")"};
       },
       py::arg("centre"), py::arg("radius"), "Disc about centre: omega = radius - |x - centre| (the signed distance).");
   m.def(
       "ellipse",
       [](const py::object& centre, const py::object& semi_axes) {
-        return Part{stepping::ellipse(to_vec2(centre, "centre"), to_vec2(semi_axes, "semi_axes")),
+        return Part{stepping::ellipse(to_vector(centre, "centre"), to_vector(semi_axes, "semi_axes")),
                     "ellipse(centre=" + short_repr(centre) + ", semi_axes=" + short_repr(semi_axes) + ")"};
       },
       py::arg("centre"), py::arg("semi_axes"),
@@ -176,7 +176,7 @@ omega(points) and grad(points) evaluate it at points (n, 2).)")
   m.def(
       "box",
       [](const py::object& lower, const py::object& upper) {
-        return Part{stepping::box(to_vec2(lower, "lower"), to_vec2(upper, "upper")),
+        return Part{stepping::box(to_vector(lower, "lower"), to_vector(upper, "upper")),
                     "box(lower=" + short_repr(lower) + ", upper=" + short_repr(upper) + ")"};
       },
       py::arg("lower"), py::arg("upper"),
@@ -204,8 +204,8 @@ part each particle is in, the last it was inside), reflections (n,), energy (n,:
 Bad input raises ValueError naming the argument; the stepper is then unchanged.)")
       .def(py::init([](const py::object& domain, const py::object& positions, const py::object& velocities, double dt,
                        const py::object& gravity, const std::string& integrator) {
-             return Stepper(to_domain(domain), to_points(positions, "positions"), to_points(velocities, "velocities"), dt,
-                            to_vec2(gravity, "gravity"), to_integrator(integrator));
+             return Stepper(to_domain(domain), to_coordinates(positions, "positions"), to_coordinates(velocities, "velocities"), dt,
+                            to_vector(gravity, "gravity"), to_integrator(integrator));
            }),
            py::arg("domain"), py::arg("positions"), py::arg("velocities"), py::arg("dt"), py::arg("gravity") = py::make_tuple(0.0, 0.0),
            py::arg("integrator") = "leapfrog")

@@ -9,25 +9,25 @@
 
 namespace engine_test {
 
-using billiard::Vec2;
+using billiard::Vector;
 
 struct RandomDiscs {
-  std::vector<Vec2> positions;
-  std::vector<Vec2> velocities;
+  std::vector<Vector> positions;
+  std::vector<Vector> velocities;
   std::vector<double> radii;
 };
 
 // n discs with radii in [radius_lo, radius_hi] placed by random sequential addition where
 // `inside(position, radius)` accepts them, without overlaps; Gaussian velocities.
 template <class Inside>
-RandomDiscs random_discs(std::mt19937_64& rng, int n, double radius_lo, double radius_hi, const Vec2& lo,
-                         const Vec2& hi, Inside inside) {
+RandomDiscs random_discs(std::mt19937_64& rng, int n, double radius_lo, double radius_hi, const Vector& lo,
+                         const Vector& hi, Inside inside) {
   RandomDiscs d;
   std::uniform_real_distribution<double> ux(lo.x(), hi.x()), uy(lo.y(), hi.y()), ur(radius_lo, radius_hi);
   std::normal_distribution<double> normal;
   int attempts = 0;
   while (static_cast<int>(d.positions.size()) < n && ++attempts < 1000000) {
-    const Vec2 p(ux(rng), uy(rng));
+    const Vector p(ux(rng), uy(rng));
     const double a = radius_lo == radius_hi ? radius_lo : ur(rng);
     if (!inside(p, a)) continue;
     bool free = true;
@@ -67,14 +67,14 @@ inline bool same_walls(const std::vector<billiard::WallShape>& x, const std::vec
 }
 
 // Settings with this gravity and restitution, everything else at its default.
-inline billiard::Settings physics(const Vec2& gravity, const billiard::Restitution& restitution = {}) {
+inline billiard::Settings physics(const Vector& gravity, const billiard::Restitution& restitution = {}) {
   billiard::Settings settings;
   settings.gravity = gravity;
   settings.restitution = restitution;
   return settings;
 }
 
-inline billiard::Disc make_disc(const Vec2& position, const Vec2& velocity, double radius = 1.0, double mass = 1.0) {
+inline billiard::Disc make_disc(const Vector& position, const Vector& velocity, double radius = 1.0, double mass = 1.0) {
   billiard::Disc disc;
   disc.position = position;
   disc.velocity = velocity;

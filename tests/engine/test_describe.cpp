@@ -69,8 +69,8 @@ TEST(Describe, EveryNumberReadsBackExactly) {
 }
 
 TEST(Describe, PointsAndPartsMakeOneMessage) {
-  EXPECT_EQ(describe("disc ", 3, " at ", Eigen::Vector2d(0.5, -1e-7), ": radius ", 0.25), "disc 3 at (0.5, -1e-07): radius 0.25");
-  EXPECT_EQ(describe("g = ", Eigen::RowVector2d(0, -9.81)), "g = (0, -9.81)");
+  EXPECT_EQ(describe("disc ", 3, " at ", billiard::Vector(0.5, -1e-7), ": radius ", 0.25), "disc 3 at (0.5, -1e-07): radius 0.25");
+  EXPECT_EQ(describe("g = ", billiard::Vector(0, -9.81)), "g = (0, -9.81)");
 }
 
 }  // namespace

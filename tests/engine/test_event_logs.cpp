@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-using billiard::Vec2;
+using billiard::Vector;
 
 namespace {
 
@@ -48,7 +48,7 @@ std::uint64_t checksum_of(const std::vector<billiard::EventRecord>& log) {
     sum.add(e.disc);
     sum.add(e.other);
     sum.add(e.wall);
-    for (const Vec2* v : {&e.position, &e.velocity, &e.other_position, &e.other_velocity}) {
+    for (const Vector* v : {&e.position, &e.velocity, &e.other_position, &e.other_velocity}) {
       sum.add(v->x());
       sum.add(v->y());
     }
@@ -67,8 +67,8 @@ struct FixedRun {
 };
 
 // A regular hexagon of circumradius r about the origin.
-billiard::Points hexagon(double r) {
-  billiard::Points vertices(6, 2);
+billiard::Coordinates hexagon(double r) {
+  billiard::Coordinates vertices(6, 2);
   for (int k = 0; k < 6; ++k) vertices.row(k) << r * std::cos(k * M_PI / 3), r * std::sin(k * M_PI / 3);
   return vertices;
 }
@@ -77,15 +77,15 @@ const std::vector<FixedRun>& runs() {
   using billiard::Simulation;
   static const std::vector<FixedRun> all = {
       {"table", 0x3ce768ab6644dfddULL, [] { return Simulation(billiard::circular_table(10)); }, 40, 0.4},
-      {"box", 0xf15fa5d3756a22c6ULL, [] { return Simulation(billiard::box(Vec2(0, 0), Vec2(20, 20))); }, 60, 0.5},
+      {"box", 0xf15fa5d3756a22c6ULL, [] { return Simulation(billiard::box(Vector(0, 0), Vector(20, 20))); }, 60, 0.5},
       {"periodic", 0xdac3eacdb051b83aULL, [] { return Simulation(billiard::periodic_box(20, 20)); }, 80, 0.5},
       {"polygon", 0x3c03490c46b33bc2ULL, [] { return Simulation(billiard::polygon(hexagon(10))); }, 40, 0.4},
-      {"stadium", 0xc1adb2799600ea83ULL, [] { return Simulation(billiard::stadium(Vec2(0, 0), 5, 8)); }, 30, 0.3},
+      {"stadium", 0xc1adb2799600ea83ULL, [] { return Simulation(billiard::stadium(Vector(0, 0), 5, 8)); }, 30, 0.3},
       {"gravity", 0x5ec6aad2301f945fULL,
-       [] { return Simulation(billiard::box(Vec2(0, 0), Vec2(20, 20)), engine_test::physics(Vec2(0.3, -1))); }, 40, 0.5},
-      {"rough", 0xc66099e1e4db5531ULL, [] { return Simulation(billiard::box(Vec2(0, 0), Vec2(20, 20)), engine_test::physics(Vec2::Zero(), {1.0, 1.0})); }, 40, 0.5},
+       [] { return Simulation(billiard::box(Vector(0, 0), Vector(20, 20)), engine_test::physics(Vector(0.3, -1))); }, 40, 0.5},
+      {"rough", 0xc66099e1e4db5531ULL, [] { return Simulation(billiard::box(Vector(0, 0), Vector(20, 20)), engine_test::physics(Vector::Zero(), {1.0, 1.0})); }, 40, 0.5},
       {"granular", 0x67430b30221933afULL,
-       [] { return Simulation(billiard::box(Vec2(0, 0), Vec2(20, 20)), engine_test::physics(Vec2(0, -1), {0.9, -1})); }, 60, 0.5},
+       [] { return Simulation(billiard::box(Vector(0, 0), Vector(20, 20)), engine_test::physics(Vector(0, -1), {0.9, -1})); }, 60, 0.5},
   };
   return all;
 }
@@ -115,7 +115,7 @@ TEST(EventLogs, TheChecksumSeesEveryField) {
   // A log differing in one bit of any one field has another checksum.
   billiard::EventRecord record;
   record.time = 1.5;
-  record.position = Vec2(1, 2);
+  record.position = Vector(1, 2);
   const std::uint64_t base = checksum_of({record});
   std::vector<std::function<void(billiard::EventRecord&)>> changes = {
       [](auto& r) { r.time = std::nextafter(r.time, 2.0); },

@@ -36,10 +36,10 @@
 
 using billiard::Container;
 using billiard::Disc;
-using billiard::Points;
+using billiard::Coordinates;
 using billiard::Settings;
 using billiard::Simulation;
-using billiard::Vec2;
+using billiard::Vector;
 using engine_test::make_disc;
 
 namespace {
@@ -73,7 +73,7 @@ struct Snapshot {
     add(label, static_cast<std::int64_t>(m.size()));
     for (Eigen::Index k = 0; k < m.size(); ++k) add(label, m.data()[k]);
   }
-  void add(const char* label, const Vec2& v) {
+  void add(const char* label, const Vector& v) {
     add(label, v.x());
     add(label, v.y());
   }
@@ -196,15 +196,15 @@ double bad_nonnegative(Rng& rng) {  // bad where >= 0 and finite is required
 double bad_length(Rng& rng) {  // bad for a container's length: not positive, or not finite and at most 1e50
   return coin(rng) ? bad_number(rng) : pick(rng, std::vector<double>{0.0, -0.0, -1.0, -kDenormal, -5.0});
 }
-Vec2 bad_point(Rng& rng) {  // one or both coordinates bad
+Vector bad_point(Rng& rng) {  // one or both coordinates bad
   const double good = uniform(rng, -5, 5);
   switch (integer(rng, 0, 2)) {
-    case 0: return Vec2(bad_number(rng), good);
-    case 1: return Vec2(good, bad_number(rng));
-    default: return Vec2(bad_number(rng), bad_number(rng));
+    case 0: return Vector(bad_number(rng), good);
+    case 1: return Vector(good, bad_number(rng));
+    default: return Vector(bad_number(rng), bad_number(rng));
   }
 }
-Vec2 point(Rng& rng, double reach) { return Vec2(uniform(rng, -reach, reach), uniform(rng, -reach, reach)); }
+Vector point(Rng& rng, double reach) { return Vector(uniform(rng, -reach, reach), uniform(rng, -reach, reach)); }
 // Extreme but allowed: the documented limits, tiny and negative zero.
 double extreme(Rng& rng, double typical) {
   return coin(rng) ? uniform(rng, -typical, typical) : pick(rng, std::vector<double>{0.0, -0.0, kDenormal, -1e-308, 1e50, -1e50, 1e-50, typical});
@@ -222,8 +222,8 @@ double length(Rng& rng, double typical) {
 // along curved walls).
 double normal_restitution(Rng& rng) { return pick(rng, std::vector<double>{0.0, kDenormal, 1e-3, 1.0, 0.5, 0.9}); }
 // A place for a container: mostly near the origin, sometimes far.
-Vec2 place(Rng& rng, double reach) {
-  return integer(rng, 0, 3) > 0 ? point(rng, reach) : Vec2(extreme(rng, reach), extreme(rng, reach));
+Vector place(Rng& rng, double reach) {
+  return integer(rng, 0, 3) > 0 ? point(rng, reach) : Vector(extreme(rng, reach), extreme(rng, reach));
 }
 
 std::string show(double x) {
@@ -232,7 +232,7 @@ std::string show(double x) {
   out << x;
   return out.str();
 }
-std::string show(const Vec2& v) { return "(" + show(v.x()) + ", " + show(v.y()) + ")"; }
+std::string show(const Vector& v) { return "(" + show(v.x()) + ", " + show(v.y()) + ")"; }
 
 enum class Expect {
   Refused,  // std::invalid_argument naming one of `names`
@@ -273,13 +273,13 @@ ShapeCall bad_shape(std::string text, std::vector<std::string> names, std::funct
 
 ShapeCall bad_polygon(Rng& rng) {
   const int rows = integer(rng, 0, 6);
-  Points vertices(rows, 2);
+  Coordinates vertices(rows, 2);
   for (int k = 0; k < rows; ++k) vertices.row(k) << 30 * std::cos(k * 2 * M_PI / rows), 30 * std::sin(k * 2 * M_PI / rows);
   std::vector<std::string> names = {"polygon: vertices needs"};
   if (rows >= 3) {
     const int k = integer(rng, 0, rows - 1);
     if (coin(rng)) {
-      vertices.row(k) = bad_point(rng).transpose();
+      vertices.row(k) = bad_point(rng);
       names = {"polygon: vertex " + std::to_string(k)};
     } else {  // a side of zero length (or one whose squared length underflows)
       const int next = (k + 1) % rows;
@@ -306,13 +306,13 @@ ShapeCall bad_shape_call(Rng& rng) {
                        [=] { return billiard::periodic_box(w, h); });
     }
     case 2: {
-      Vec2 lower(-30, -30), upper(30, 30);
+      Vector lower(-30, -30), upper(30, 30);
       std::string name;
       switch (integer(rng, 0, 2)) {
         case 0: lower = bad_point(rng); name = "box: lower must"; break;
         case 1: upper = bad_point(rng); name = "box: upper must"; break;
         default:  // upper not above lower in x or y (or by less than an underflowing step)
-          upper = lower + Vec2(pick(rng, std::vector<double>{0.0, -1.0, kDenormal, 60.0}), pick(rng, std::vector<double>{0.0, -0.0, -5.0}));
+          upper = lower + Vector(pick(rng, std::vector<double>{0.0, -1.0, kDenormal, 60.0}), pick(rng, std::vector<double>{0.0, -0.0, -5.0}));
           if (coin(rng)) std::swap(upper.x(), upper.y());
           name = "must exceed lower";
           break;
@@ -321,7 +321,7 @@ ShapeCall bad_shape_call(Rng& rng) {
     }
     case 3: return bad_polygon(rng);
     case 4: {
-      Vec2 centre = point(rng, 5);
+      Vector centre = point(rng, 5);
       double radius = uniform(rng, 1, 5), length = uniform(rng, 1, 8);
       std::string name;
       switch (integer(rng, 0, 2)) {
@@ -333,14 +333,14 @@ ShapeCall bad_shape_call(Rng& rng) {
                        [=] { return billiard::stadium(centre, radius, length); });
     }
     case 5: {
-      Vec2 lower(0, 0), upper(20, 30);
+      Vector lower(0, 0), upper(20, 30);
       double radius = uniform(rng, 1, 9);
       std::string name;
       switch (integer(rng, 0, 3)) {
         case 0: lower = bad_point(rng); name = "sinai_billiard: lower"; break;
         case 1: upper = bad_point(rng); name = "sinai_billiard: upper"; break;
         case 2:  // upper not above lower
-          upper = Vec2(pick(rng, std::vector<double>{0.0, -1.0, 20.0}), pick(rng, std::vector<double>{0.0, -0.0, -5.0}));
+          upper = Vector(pick(rng, std::vector<double>{0.0, -1.0, 20.0}), pick(rng, std::vector<double>{0.0, -0.0, -5.0}));
           if (coin(rng)) std::swap(upper.x(), upper.y());
           name = "sinai_billiard: upper";
           break;
@@ -353,7 +353,7 @@ ShapeCall bad_shape_call(Rng& rng) {
                        [=] { return billiard::sinai_billiard(lower, upper, radius); });
     }
     case 6: {
-      Vec2 centre = point(rng, 5);
+      Vector centre = point(rng, 5);
       double cap = uniform(rng, 2, 6), width = uniform(rng, 0.5, 2), height = uniform(rng, 1, 5);
       std::string name;
       switch (integer(rng, 0, 3)) {
@@ -370,10 +370,10 @@ ShapeCall bad_shape_call(Rng& rng) {
     }
     default: {
       const int n = integer(rng, 1, 4);
-      Points centres(n, 2);
+      Coordinates centres(n, 2);
       std::vector<double> radii;
       for (int k = 0; k < n; ++k) {
-        centres.row(k) = point(rng, 6).transpose();
+        centres.row(k) = point(rng, 6);
         radii.push_back(uniform(rng, 2, 5));
       }
       std::string name;
@@ -381,7 +381,7 @@ ShapeCall bad_shape_call(Rng& rng) {
       switch (integer(rng, 0, 4)) {
         case 0: centres.resize(0, 2); radii.clear(); name = "union_of_circles: centres"; break;
         case 1: radii.resize(coin(rng) ? n + 1 : n - 1); name = "union_of_circles: radii has"; break;
-        case 2: centres.row(k) = bad_point(rng).transpose(); name = "union_of_circles: circle " + std::to_string(k) + ": centre"; break;
+        case 2: centres.row(k) = bad_point(rng); name = "union_of_circles: circle " + std::to_string(k) + ": centre"; break;
         case 3: radii[k] = bad_length(rng); name = "union_of_circles: circle " + std::to_string(k) + ": radius"; break;
         default:  // two equal circles
           centres.conservativeResize(n + 1, 2);
@@ -397,8 +397,8 @@ ShapeCall bad_shape_call(Rng& rng) {
 }
 
 // A regular polygon of `sides` sides and circumradius r about `centre`.
-Points regular_polygon(const Vec2& centre, double r, int sides, double turn) {
-  Points vertices(sides, 2);
+Coordinates regular_polygon(const Vector& centre, double r, int sides, double turn) {
+  Coordinates vertices(sides, 2);
   for (int k = 0; k < sides; ++k) {
     const double angle = turn + 2 * M_PI * k / sides;
     vertices.row(k) << centre.x() + r * std::cos(angle), centre.y() + r * std::sin(angle);
@@ -420,15 +420,15 @@ ShapeCall plausible_shape_call(Rng& rng) {
       return any("periodic_box(" + show(w) + ", " + show(h) + ")", [=] { return billiard::periodic_box(w, h); });
     }
     case 2: {
-      const Vec2 lower = place(rng, 10), upper = lower + Vec2(length(rng, 20), length(rng, 15));
+      const Vector lower = place(rng, 10), upper = lower + Vector(length(rng, 20), length(rng, 15));
       return any("box(" + show(lower) + ", " + show(upper) + ")", [=] { return billiard::box(lower, upper); });
     }
     case 3: {
-      Points vertices;
+      Coordinates vertices;
       std::string text;
       if (coin(rng)) {
         const int sides = integer(rng, 3, 8);
-        const Vec2 centre = place(rng, 5);
+        const Vector centre = place(rng, 5);
         const double r = length(rng, 10);
         vertices = regular_polygon(centre, r, sides, uniform(rng, 0, M_PI));
         text = "polygon(" + std::to_string(sides) + " sides about " + show(centre) + ", circumradius " + show(r) + ")";
@@ -442,19 +442,19 @@ ShapeCall plausible_shape_call(Rng& rng) {
       return any(text, [=] { return billiard::polygon(vertices); });
     }
     case 4: {
-      const Vec2 centre = place(rng, 5);
+      const Vector centre = place(rng, 5);
       const double r = length(rng, 5), l = length(rng, 8);
       return any("stadium(" + show(centre) + ", " + show(r) + ", " + show(l) + ")", [=] { return billiard::stadium(centre, r, l); });
     }
     case 5: {
-      const Vec2 lower = place(rng, 10), size(length(rng, 20), length(rng, 20));
-      const Vec2 upper = lower + size;
+      const Vector lower = place(rng, 10), size(length(rng, 20), length(rng, 20));
+      const Vector upper = lower + size;
       const double radius = uniform(rng, 0.05, 0.45) * size.minCoeff();
       return any("sinai_billiard(" + show(lower) + ", " + show(upper) + ", " + show(radius) + ")",
                  [=] { return billiard::sinai_billiard(lower, upper, radius); });
     }
     case 6: {
-      const Vec2 centre = place(rng, 5);
+      const Vector centre = place(rng, 5);
       const double cap = length(rng, 8), width = uniform(rng, 0.05, 0.95) * 2 * cap, height = length(rng, 6);
       return any("mushroom(" + show(centre) + ", " + show(cap) + ", " + show(width) + ", " + show(height) + ")",
                  [=] { return billiard::mushroom(centre, cap, width, height); });
@@ -462,10 +462,10 @@ ShapeCall plausible_shape_call(Rng& rng) {
     default: {
       const int n = integer(rng, 1, 4);
       const double scale = length(rng, 1);
-      Points centres(n, 2);
+      Coordinates centres(n, 2);
       std::vector<double> radii;
       for (int k = 0; k < n; ++k) {
-        centres.row(k) = scale * point(rng, 8).transpose();
+        centres.row(k) = scale * point(rng, 8);
         radii.push_back(scale * uniform(rng, 3, 8));
       }
       return any("union_of_circles(" + std::to_string(n) + " circles, scale " + show(scale) + ")",
@@ -478,10 +478,10 @@ ShapeCall plausible_shape_call(Rng& rng) {
 std::pair<std::string, Container> ordinary_container(Rng& rng) {
   switch (integer(rng, 0, 4)) {
     case 0: return {"circular_table(10)", billiard::circular_table(10)};
-    case 1: return {"box((0, 0), (20, 10))", billiard::box(Vec2(0, 0), Vec2(20, 10))};
+    case 1: return {"box((0, 0), (20, 10))", billiard::box(Vector(0, 0), Vector(20, 10))};
     case 2: return {"periodic_box(20, 15)", billiard::periodic_box(20, 15)};
-    case 3: return {"polygon(hexagon)", billiard::polygon(regular_polygon(Vec2(0, 0), 10, 6, 0))};
-    default: return {"sinai_billiard((0, 0), (20, 20), 5)", billiard::sinai_billiard(Vec2(0, 0), Vec2(20, 20), 5)};
+    case 3: return {"polygon(hexagon)", billiard::polygon(regular_polygon(Vector(0, 0), 10, 6, 0))};
+    default: return {"sinai_billiard((0, 0), (20, 20), 5)", billiard::sinai_billiard(Vector(0, 0), Vector(20, 20), 5)};
   }
 }
 
@@ -491,15 +491,15 @@ Addition bad_addition(std::string text, std::vector<std::string> names, std::fun
 
 // An outlined shape for an obstacle, small and near the origin; never refused.
 std::pair<std::string, Container> obstacle_shape(Rng& rng) {
-  const Vec2 c = point(rng, 8);
+  const Vector c = point(rng, 8);
   const double s = uniform(rng, 0.5, 3);
   switch (integer(rng, 0, 4)) {
-    case 0: return {"box about " + show(c), billiard::box(c - Vec2(s, s), c + Vec2(s, 0.5 * s))};
+    case 0: return {"box about " + show(c), billiard::box(c - Vector(s, s), c + Vector(s, 0.5 * s))};
     case 1: return {"triangle about " + show(c), billiard::polygon(regular_polygon(c, s, 3, uniform(rng, 0, M_PI)))};
     case 2: return {"stadium about " + show(c), billiard::stadium(c, s, uniform(rng, 0.5, 3))};
     case 3: return {"mushroom about " + show(c), billiard::mushroom(c, s, s, s)};
     default: {
-      Points centres(2, 2);
+      Coordinates centres(2, 2);
       centres << c.x(), c.y(), c.x() + s, c.y();
       return {"two circles about " + show(c), billiard::union_of_circles(centres, {s, 0.8 * s})};
     }
@@ -511,11 +511,11 @@ Addition bad_addition_call(Rng& rng, const Container& container) {
   if (container.periodic() && coin(rng)) {  // valid arguments, but walls inside a periodic box are not supported
     switch (integer(rng, 0, 3)) {
       case 0: return bad_addition("add_segment((1, 1), (3, 2))", {"add_segment: walls inside a periodic box"},
-                                  [](Container& c) { return c.add_segment(Vec2(1, 1), Vec2(3, 2)); });
+                                  [](Container& c) { return c.add_segment(Vector(1, 1), Vector(3, 2)); });
       case 1: return bad_addition("add_arc((5, 5), 1, 0, 1)", {"add_arc: walls inside a periodic box"},
-                                  [](Container& c) { return c.add_arc(Vec2(5, 5), 1, 0, 1); });
+                                  [](Container& c) { return c.add_arc(Vector(5, 5), 1, 0, 1); });
       case 2: return bad_addition("add_obstacle((5, 5), 1)", {"add_obstacle: walls inside a periodic box"}, [](Container& c) {
-        c.add_obstacle(Vec2(5, 5), 1);
+        c.add_obstacle(Vector(5, 5), 1);
         return -1;
       });
       default: {
@@ -529,17 +529,17 @@ Addition bad_addition_call(Rng& rng, const Container& container) {
   }
   switch (integer(rng, 0, 3)) {
     case 0: {
-      Vec2 a = point(rng, 5), b = point(rng, 5);
+      Vector a = point(rng, 5), b = point(rng, 5);
       std::string name;
       switch (integer(rng, 0, 2)) {
         case 0: a = bad_point(rng); name = "add_segment: a "; break;
         case 1: b = bad_point(rng); name = "add_segment: b "; break;
-        default: b = a + Vec2(coin(rng) ? 0.0 : kDenormal, 0.0); name = "add_segment: a and b"; break;
+        default: b = a + Vector(coin(rng) ? 0.0 : kDenormal, 0.0); name = "add_segment: a and b"; break;
       }
       return bad_addition("add_segment(" + show(a) + ", " + show(b) + ")", {name}, [=](Container& c) { return c.add_segment(a, b); });
     }
     case 1: {
-      Vec2 centre = point(rng, 5);
+      Vector centre = point(rng, 5);
       double radius = uniform(rng, 0.5, 3), start = uniform(rng, -7, 7), end = start + uniform(rng, 0.1, 2 * M_PI);
       std::string name;
       switch (integer(rng, 0, 4)) {
@@ -556,7 +556,7 @@ Addition bad_addition_call(Rng& rng, const Container& container) {
                           [=](Container& c) { return c.add_arc(centre, radius, start, end); });
     }
     case 2: {
-      Vec2 centre = point(rng, 5);
+      Vector centre = point(rng, 5);
       double radius = uniform(rng, 0.5, 3);
       std::string name;
       if (coin(rng)) {
@@ -578,13 +578,13 @@ Addition bad_addition_call(Rng& rng, const Container& container) {
         case 0: shape = billiard::circular_table(uniform(rng, 1, 5)); text = "circular_table"; name = "add_obstacle: shape must be an outline"; break;
         case 1: shape = billiard::periodic_box(uniform(rng, 1, 5), 3); text = "periodic_box"; name = "add_obstacle: shape must be an outline"; break;
         case 2:
-          shape = billiard::box(Vec2(-1, -1), Vec2(1, 1));
-          shape->add_segment(Vec2(-0.5, 0), Vec2(0.5, 0));
+          shape = billiard::box(Vector(-1, -1), Vector(1, 1));
+          shape->add_segment(Vector(-0.5, 0), Vector(0.5, 0));
           text = "box with a segment";
           break;
         default:
-          shape = billiard::stadium(Vec2(0, 0), 1, 2);
-          shape->add_arc(Vec2(0, 0), 0.5, 0, 1);
+          shape = billiard::stadium(Vector(0, 0), 1, 2);
+          shape->add_arc(Vector(0, 0), 0.5, 0, 1);
           text = "stadium with an arc";
           break;
       }
@@ -602,18 +602,18 @@ Addition plausible_addition_call(Rng& rng) {
   auto any = [](std::string text, std::function<int(Container&)> run) { return Addition{std::move(text), Expect::Either, {}, std::move(run)}; };
   switch (integer(rng, 0, 3)) {
     case 0: {
-      const Vec2 a(extreme(rng, 20), extreme(rng, 20)), b(extreme(rng, 20), extreme(rng, 20));
+      const Vector a(extreme(rng, 20), extreme(rng, 20)), b(extreme(rng, 20), extreme(rng, 20));
       return any("add_segment(" + show(a) + ", " + show(b) + ")", [=](Container& c) { return c.add_segment(a, b); });
     }
     case 1: {
-      const Vec2 centre(extreme(rng, 10), extreme(rng, 10));
+      const Vector centre(extreme(rng, 10), extreme(rng, 10));
       const double radius = length(rng, 4), start = coin(rng) ? uniform(rng, -7, 7) : pick(rng, std::vector<double>{0.0, -0.0, 1e6, -1e6});
       const double end = start + (coin(rng) ? uniform(rng, 0.01, 2 * M_PI) : pick(rng, std::vector<double>{2 * M_PI, 1e-9, M_PI}));
       return any("add_arc(" + show(centre) + ", " + show(radius) + ", " + show(start) + ", " + show(end) + ")",
                  [=](Container& c) { return c.add_arc(centre, radius, start, end); });
     }
     case 2: {
-      const Vec2 centre(extreme(rng, 10), extreme(rng, 10));
+      const Vector centre(extreme(rng, 10), extreme(rng, 10));
       const double radius = length(rng, 2);
       return any("add_obstacle(" + show(centre) + ", " + show(radius) + ")", [=](Container& c) {
         c.add_obstacle(centre, radius);
@@ -646,7 +646,7 @@ SettingsCase random_settings(Rng& rng) {
   std::ostringstream text;
   if (coin(rng)) {
     auto g = [&] { return coin(rng) ? uniform(rng, -5, 5) : pick(rng, std::vector<double>{0.0, -0.0, 1e-50, -1e-50, 1e50, -1e50, 1.0}); };
-    s.gravity = Vec2(g(), g());
+    s.gravity = Vector(g(), g());
     text << " gravity " << show(s.gravity);
   }
   if (coin(rng)) {
@@ -679,7 +679,7 @@ SettingsCase random_settings(Rng& rng) {
     Settings& bad = c.settings;
     switch (integer(rng, 0, 7)) {
       case 0:
-        bad.gravity = coin(rng) ? bad_point(rng) : Vec2(0, pick(rng, std::vector<double>{kDenormal, -1e-308, 1e-51, -1e-300}));
+        bad.gravity = coin(rng) ? bad_point(rng) : Vector(0, pick(rng, std::vector<double>{kDenormal, -1e-308, 1e-51, -1e-300}));
         text << " bad gravity " << show(bad.gravity);
         c.names = {"settings.gravity"};
         break;
@@ -759,10 +759,10 @@ Call bad_disc(Rng& rng, int size) {
 
 Call bad_discs(Rng& rng) {
   const int rows = integer(rng, 0, 4);
-  Points positions(rows, 2), velocities(rows, 2);
+  Coordinates positions(rows, 2), velocities(rows, 2);
   for (int k = 0; k < rows; ++k) {
-    positions.row(k) = point(rng, 4).transpose();
-    velocities.row(k) = point(rng, 1).transpose();
+    positions.row(k) = point(rng, 4);
+    velocities.row(k) = point(rng, 1);
   }
   double radius = uniform(rng, 0.05, 0.2), mass = 1.0;
   std::vector<std::string> names;
@@ -780,11 +780,11 @@ Call bad_discs(Rng& rng) {
       positions.conservativeResize(std::max(rows, k + 1), 2);
       velocities.conservativeResize(std::max(rows, k + 1), 2);
       if (coin(rng)) {
-        positions.row(k) = bad_point(rng).transpose();
+        positions.row(k) = bad_point(rng);
         velocities.row(k).setZero();
       } else {
         positions.row(k) << 0.5, 0.5;
-        velocities.row(k) = bad_point(rng).transpose();
+        velocities.row(k) = bad_point(rng);
       }
       names = {"position", "velocity", "overlaps", "outside", "too small", "too large"};
       break;
@@ -885,7 +885,7 @@ Call plausible_call(Rng& rng) {
     case 0:
     case 1:
     case 2: {
-      Disc d = make_disc(Vec2(extreme(rng, 10), extreme(rng, 10)), Vec2(extreme(rng, 3), extreme(rng, 3)), extreme_scale(rng, 0.5),
+      Disc d = make_disc(Vector(extreme(rng, 10), extreme(rng, 10)), Vector(extreme(rng, 3), extreme(rng, 3)), extreme_scale(rng, 0.5),
                          extreme_scale(rng, 1));
       if (coin(rng)) d.inertia = extreme_scale(rng, 0.5);
       if (coin(rng)) d.spin = coin(rng) ? uniform(rng, -2, 2) : pick(rng, std::vector<double>{0.0, -0.0, kDenormal, -1e-308, 1e-50, 2.0, 1e30, -1e50, 1e50});
@@ -1152,7 +1152,7 @@ void make_system(Rng& rng, Counts& counts, std::string& history, std::optional<S
 // sometimes a start (kept where accepted).
 void add_discs(Rng& rng, Simulation& sim, std::string& history) {
   if (integer(rng, 0, 3) > 0) {
-    Vec2 lower, upper;
+    Vector lower, upper;
     bounds(sim.container(), lower, upper);
     const double side = (upper - lower).minCoeff();
     const int n = integer(rng, 0, 30);
@@ -1203,7 +1203,7 @@ TEST(FuzzApi, BadCallsAreRefusedNamingTheArgumentAndChangeNothing) {
     const std::int64_t events = totals.disc_collisions + totals.wall_collisions + totals.cell_crossings;
     counts.runs += events > 0;
     counts.events += events;
-    counts.periodic_gravity += made->container().periodic() && made->gravity() != Vec2::Zero();
+    counts.periodic_gravity += made->container().periodic() && made->gravity() != Vector::Zero();
     counts.zero_restitution += made->restitution().normal == 0;
     counts.huge_spins += made->size() > 0 && made->current_state().spins.cwiseAbs().maxCoeff() >= 1e30;
     const Call call = k % 5 == 4 ? plausible_call(rng) : bad_call(rng, *made);
@@ -1254,9 +1254,9 @@ TEST(FuzzApi, ImpossibleOrExtremeRequestsReturnQuickly) {
   // the small disc's size.
   {
     Simulation sim(billiard::circular_table(1e6));
-    sim.add_disc(make_disc(Vec2(0, 0), Vec2(1, 0), 1.0));
-    EXPECT_LT(seconds([&] { sim.add_disc(make_disc(Vec2(5e5, 0), Vec2(0, 1), 4e5)); }), 1.0);
-    EXPECT_LT(seconds([&] { EXPECT_THROW(sim.add_disc(make_disc(Vec2(-4e5, 0), Vec2(0, 0), 4e5)), std::invalid_argument); }), 1.0);
+    sim.add_disc(make_disc(Vector(0, 0), Vector(1, 0), 1.0));
+    EXPECT_LT(seconds([&] { sim.add_disc(make_disc(Vector(5e5, 0), Vector(0, 1), 4e5)); }), 1.0);
+    EXPECT_LT(seconds([&] { EXPECT_THROW(sim.add_disc(make_disc(Vector(-4e5, 0), Vector(0, 0), 4e5)), std::invalid_argument); }), 1.0);
     EXPECT_EQ(sim.size(), 2);
     EXPECT_EQ(sim.validate(), std::nullopt);
   }
@@ -1264,9 +1264,9 @@ TEST(FuzzApi, ImpossibleOrExtremeRequestsReturnQuickly) {
   // the overlap would go unseen).
   {
     Simulation sim(billiard::circular_table(1e-45));
-    sim.add_disc(make_disc(Vec2(1e-46, 0), Vec2(0, 0), 1e-50));
-    EXPECT_THROW(sim.add_disc(make_disc(Vec2(1e-46, 0), Vec2(0, 0), 1e-50)), std::invalid_argument);
-    EXPECT_THROW(sim.add_disc(make_disc(Vec2(0, 0), Vec2(0, 0), 1e-300)), std::invalid_argument);
+    sim.add_disc(make_disc(Vector(1e-46, 0), Vector(0, 0), 1e-50));
+    EXPECT_THROW(sim.add_disc(make_disc(Vector(1e-46, 0), Vector(0, 0), 1e-50)), std::invalid_argument);
+    EXPECT_THROW(sim.add_disc(make_disc(Vector(0, 0), Vector(0, 0), 1e-300)), std::invalid_argument);
   }
   // A gigantic table, the lightest discs and the largest temperature allowed.
   {
@@ -1279,7 +1279,7 @@ TEST(FuzzApi, ImpossibleOrExtremeRequestsReturnQuickly) {
   }
   // A thin polygon in a huge bounding box: the lattice over the box would not fit in memory.
   {
-    Points sliver(3, 2);
+    Coordinates sliver(3, 2);
     sliver << 0, 0, 1e6, 1e6, 1e6, 1e6 + 1;
     Simulation sim(billiard::polygon(sliver));
     const Snapshot before = snapshot(sim);
@@ -1305,7 +1305,7 @@ TEST(FuzzApi, ACopyRunsOnLikeTheOriginal) {
   // The fuzzing compares refused calls with untouched copies, so copies of running simulations
   // must be independent of their originals: advancing or destroying the original changes nothing.
   auto running = [] {
-    Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)));
+    Simulation sim(billiard::box(Vector(0, 0), Vector(20, 20)));
     sim.add_random_discs(40, 0.5, 1.0, 1.0, 8);
     sim.advance(300);
     return sim;
@@ -1356,7 +1356,7 @@ TEST(FuzzApi, InelasticDiscsStayOnTheTable) {
 TEST(FuzzApi, SlowDiscsKeepTheQueueValid) {
   for (const double speed : {1e-20, 1e-50}) {
     Simulation sim(billiard::circular_table(5));
-    sim.add_disc(make_disc(Vec2(0, 0.1), Vec2(speed, 0), 0.3));
+    sim.add_disc(make_disc(Vector(0, 0.1), Vector(speed, 0), 0.3));
     sim.advance(1, 1.0);
     EXPECT_EQ(sim.validate(), std::nullopt) << "speed " << speed;
   }
@@ -1371,9 +1371,9 @@ TEST(FuzzApi, TinyContainersAreRefusedAndTheSmallestAllowedRun) {
       {"width", [] { return billiard::periodic_box(kDenormal, 20); }},
       {"height", [] { return billiard::periodic_box(1, 1e-200); }},
       {"radius", [] { return billiard::circular_table(1e-200); }},
-      {"upper", [] { return billiard::box(Vec2(0, 0), Vec2(1e-300, 1)); }},
-      {"obstacle_radius", [] { return billiard::sinai_billiard(Vec2(0, 0), Vec2(1, 1), 1e-60); }},
-      {"radius", [] { return billiard::stadium(Vec2(0, 0), 1e-60, 1); }}};
+      {"upper", [] { return billiard::box(Vector(0, 0), Vector(1e-300, 1)); }},
+      {"obstacle_radius", [] { return billiard::sinai_billiard(Vector(0, 0), Vector(1, 1), 1e-60); }},
+      {"radius", [] { return billiard::stadium(Vector(0, 0), 1e-60, 1); }}};
   for (const auto& [name, make] : refused) {
     try {
       make();
@@ -1384,7 +1384,7 @@ TEST(FuzzApi, TinyContainersAreRefusedAndTheSmallestAllowedRun) {
   }
   const std::vector<std::function<Container()>> smallest = {
       [] { return billiard::periodic_box(1e-50, 20); }, [] { return billiard::periodic_box(1e-50, 1e-50); },
-      [] { return billiard::circular_table(1e-50); }, [] { return billiard::box(Vec2(0, 0), Vec2(1e-50, 1e50)); }};
+      [] { return billiard::circular_table(1e-50); }, [] { return billiard::box(Vector(0, 0), Vector(1e-50, 1e50)); }};
   for (std::size_t k = 0; k < smallest.size(); ++k) {
     Simulation sim(smallest[k]());
     EXPECT_NO_THROW(sim.advance(1)) << "shape " << k;
@@ -1408,18 +1408,18 @@ Energy total_energy(const Simulation& sim) {
   const billiard::State s = sim.current_state();
   const billiard::Images images = sim.images();
   const Eigen::VectorXd masses = sim.masses();
-  const Vec2 g = sim.gravity();
-  const Vec2 period = sim.container().periodic() ? sim.container().period() : Vec2::Zero();
+  const Vector g = sim.gravity();
+  const Vector period = sim.container().periodic() ? sim.container().period() : Vector::Zero();
   Energy e;
-  if (period != Vec2::Zero() && g != Vec2::Zero()) {
+  if (period != Vector::Zero() && g != Vector::Zero()) {
     // A periodic box under gravity: the gas falls for ever, and after a fall of 2^63 periods its
     // image counts no longer fit (they saturate), so the energy about the centre of mass, which
     // gravity does not change, is checked (the fall itself: LostDiscs.LongPeriodicRuns...). The
     // reported velocities carry the fall g t, so their rounding scales with it.
     const Eigen::VectorXd inertias = sim.inertias();
-    const Vec2 centre_velocity = (s.velocities.transpose() * masses / masses.sum());
+    const Vector centre_velocity = masses.transpose() * s.velocities / masses.sum();
     for (Eigen::Index i = 0; i < s.positions.rows(); ++i) {
-      const Vec2 v = s.velocities.row(i).transpose() - centre_velocity;
+      const Vector v = s.velocities.row(i) - centre_velocity;
       const double spin = 0.5 * inertias[i] * s.spins[i] * s.spins[i];
       e.value += 0.5 * masses[i] * v.squaredNorm() + spin;
       e.scale += 0.5 * masses[i] * s.velocities.row(i).squaredNorm() + spin;
@@ -1429,7 +1429,7 @@ Energy total_energy(const Simulation& sim) {
   e.value = sim.kinetic_energy();
   e.scale = e.value;
   for (Eigen::Index i = 0; i < s.positions.rows(); ++i) {
-    const Vec2 unwrapped(s.positions(i, 0) + static_cast<double>(images(i, 0)) * period.x(),
+    const Vector unwrapped(s.positions(i, 0) + static_cast<double>(images(i, 0)) * period.x(),
                          s.positions(i, 1) + static_cast<double>(images(i, 1)) * period.y());
     e.value -= masses[i] * g.dot(unwrapped);
     e.scale += masses[i] * g.norm() * unwrapped.norm();
@@ -1468,7 +1468,7 @@ Simulation stress_system(Rng& rng, StressCounts& counts, std::string& history) {
   Simulation sim(*container, settings);
   history += ", gravity " + show(settings.gravity) + ", restitution " + show(settings.restitution.normal) + ", " +
              show(settings.restitution.tangential);
-  Vec2 lower, upper;
+  Vector lower, upper;
   bounds(sim.container(), lower, upper);
   const double side = (upper - lower).minCoeff();
   if (!(side > 1e-30 && side < 1e30)) ++counts.extreme_scales;
@@ -1488,8 +1488,8 @@ Simulation stress_system(Rng& rng, StressCounts& counts, std::string& history) {
     }
   }
   if (settings.restitution.tangential > -1 && coin(rng)) {  // a disc spinning as fast as allowed
-    Disc d = make_disc(wrap(sim.container(), 0.5 * (lower + upper) + Vec2(uniform(rng, -0.3, 0.3), uniform(rng, -0.3, 0.3)).cwiseProduct(upper - lower)),
-                       Vec2::Zero(), radius, mass);
+    Disc d = make_disc(wrap(sim.container(), 0.5 * (lower + upper) + Vector(uniform(rng, -0.3, 0.3), uniform(rng, -0.3, 0.3)).cwiseProduct(upper - lower)),
+                       Vector::Zero(), radius, mass);
     d.spin = pick(rng, std::vector<double>{1e30, -1e50, 1e50});
     try {
       sim.add_disc(d);
@@ -1500,7 +1500,7 @@ Simulation stress_system(Rng& rng, StressCounts& counts, std::string& history) {
   }
   ++counts.runs;
   if (sim.container().periodic()) ++counts.periodic_runs;
-  if (settings.gravity != Vec2::Zero()) ++counts.gravity;
+  if (settings.gravity != Vector::Zero()) ++counts.gravity;
   if (settings.restitution.normal < 1) ++counts.inelastic;
   if (settings.restitution.tangential > -1) ++counts.rough;
   counts.discs += sim.size();
@@ -1561,14 +1561,14 @@ TEST(FuzzApi, StressRandomSystemsStayValidOverAHundredMillionEvents) {
   // without a collision are not taken for stuck ones).
   StressCounts periodic;
   while (periodic.crossings < 100000000) {
-    const Vec2 size(uniform(rng, 1, 30), uniform(rng, 1, 30));  // (extreme sizes: above)
+    const Vector size(uniform(rng, 1, 30), uniform(rng, 1, 30));  // (extreme sizes: above)
     Settings settings;
-    if (coin(rng)) settings.gravity = Vec2(uniform(rng, -1, 1), uniform(rng, -1, 1)) * pick(rng, std::vector<double>{1.0, 1e-3, 1e3});
+    if (coin(rng)) settings.gravity = Vector(uniform(rng, -1, 1), uniform(rng, -1, 1)) * pick(rng, std::vector<double>{1.0, 1e-3, 1e3});
     Simulation sim(billiard::periodic_box(size.x(), size.y()), settings);
     const int n = integer(rng, 1, 4);
     sim.add_random_discs(n, 0.02 * size.minCoeff(), 1.0, 1.0, rng());
     ++periodic.runs;
-    if (settings.gravity != Vec2::Zero()) ++periodic.gravity;
+    if (settings.gravity != Vector::Zero()) ++periodic.gravity;
     const std::string history = "periodic_box(" + show(size.x()) + ", " + show(size.y()) + "), gravity " + show(settings.gravity) +
                                 ", " + std::to_string(n) + " discs";
     // About 2 x 10^7 crossings per run: time for a disc at speed 1 to cross 10^7 cells (under

@@ -16,7 +16,7 @@
 #include <vector>
 
 using billiard::kAllEvents;
-using billiard::Vec2;
+using billiard::Vector;
 using engine_test::make_disc;
 using engine_test::physics;
 
@@ -29,11 +29,11 @@ double total_energy(const billiard::Simulation& sim) { return sim.kinetic_energy
 // Two discs of radius 1 on the x axis in a large box, approaching head-on at relative speed u;
 // returns their relative speed after their collision.
 double speed_after_head_on(double u, double restitution, double elastic_impact_speed) {
-  billiard::Settings settings = physics(Vec2::Zero(), {restitution, -1.0});
+  billiard::Settings settings = physics(Vector::Zero(), {restitution, -1.0});
   settings.elastic_impact_speed = elastic_impact_speed;
-  billiard::Simulation sim(billiard::box(Vec2(-100, -100), Vec2(100, 100)), settings);
-  sim.add_disc(make_disc(Vec2(-5, 0), Vec2(u / 2, 0)));
-  sim.add_disc(make_disc(Vec2(5, 0), Vec2(-u / 2, 0)));
+  billiard::Simulation sim(billiard::box(Vector(-100, -100), Vector(100, 100)), settings);
+  sim.add_disc(make_disc(Vector(-5, 0), Vector(u / 2, 0)));
+  sim.add_disc(make_disc(Vector(5, 0), Vector(-u / 2, 0)));
   sim.advance(1);
   const billiard::State s = sim.current_state();
   return s.velocities(1, 0) - s.velocities(0, 0);
@@ -56,12 +56,12 @@ TEST(Granular, CollisionSoonAfterAnotherIsElasticInTheTcModel) {
   // With a contact duration of 10 that collision is elastic (B stops, C takes 0.75); with 5 it
   // keeps half of the relative speed (B 0.1875, C 0.5625).
   for (const double duration : {10.0, 5.0}) {
-    billiard::Settings settings = physics(Vec2::Zero(), {0.5, -1.0});
+    billiard::Settings settings = physics(Vector::Zero(), {0.5, -1.0});
     settings.contact_duration = duration;
-    billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(100, 100)), settings);
-    sim.add_disc(make_disc(Vec2(3, 50), Vec2(1, 0)));
-    sim.add_disc(make_disc(Vec2(6, 50), Vec2(0, 0)));
-    sim.add_disc(make_disc(Vec2(14, 50), Vec2(0, 0)));
+    billiard::Simulation sim(billiard::box(Vector(0, 0), Vector(100, 100)), settings);
+    sim.add_disc(make_disc(Vector(3, 50), Vector(1, 0)));
+    sim.add_disc(make_disc(Vector(6, 50), Vector(0, 0)));
+    sim.add_disc(make_disc(Vector(14, 50), Vector(0, 0)));
     sim.advance(2);
     EXPECT_NEAR(sim.time(), 9.0, 1e-12);
     const billiard::State s = sim.current_state();
@@ -78,11 +78,11 @@ TEST(Granular, WallHitDoesNotMakeALaterDiscCollisionElastic) {
   // wall x = 0 at t = 2 (bouncing at 0.5), then reaches B, at rest at x = 10, at t = 16, 14 after
   // its wall hit: with a contact duration of 20 that collision still keeps half of the relative
   // speed (A 0.125, B 0.375).
-  billiard::Settings settings = physics(Vec2::Zero(), {0.5, -1.0});
+  billiard::Settings settings = physics(Vector::Zero(), {0.5, -1.0});
   settings.contact_duration = 20.0;
-  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(100, 100)), settings);
-  sim.add_disc(make_disc(Vec2(3, 50), Vec2(-1, 0)));
-  sim.add_disc(make_disc(Vec2(10, 50), Vec2(0, 0)));
+  billiard::Simulation sim(billiard::box(Vector(0, 0), Vector(100, 100)), settings);
+  sim.add_disc(make_disc(Vector(3, 50), Vector(-1, 0)));
+  sim.add_disc(make_disc(Vector(10, 50), Vector(0, 0)));
   sim.advance(2);
   EXPECT_NEAR(sim.time(), 16.0, 1e-12);
   const billiard::State s = sim.current_state();
@@ -91,7 +91,7 @@ TEST(Granular, WallHitDoesNotMakeALaterDiscCollisionElastic) {
 }
 
 TEST(Granular, AutomaticValuesAndRefusals) {
-  billiard::Simulation sim(billiard::periodic_box(50, 50), physics(Vec2::Zero(), {0.7, -1.0}));
+  billiard::Simulation sim(billiard::periodic_box(50, 50), physics(Vector::Zero(), {0.7, -1.0}));
   sim.add_random_discs(100, 0.5, 1.0, 2.0, 3);  // kT = 2: rms speed 2 (2D, mass 1)
   for (const double bad : {-1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
     EXPECT_THROW(sim.set_contact_duration(bad), std::invalid_argument);
@@ -104,7 +104,7 @@ TEST(Granular, AutomaticValuesAndRefusals) {
   }
   // The same values given as settings are refused when the simulation is made.
   for (const double bad : {-1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
-    billiard::Settings duration = physics(Vec2::Zero(), {0.7, -1.0}), speed = physics(Vec2::Zero(), {0.7, -1.0});
+    billiard::Settings duration = physics(Vector::Zero(), {0.7, -1.0}), speed = physics(Vector::Zero(), {0.7, -1.0});
     duration.contact_duration = bad;
     speed.elastic_impact_speed = bad;
     EXPECT_THROW(billiard::Simulation(billiard::periodic_box(50, 50), duration), std::invalid_argument);
@@ -118,9 +118,9 @@ TEST(Granular, AutomaticValuesAndRefusals) {
   EXPECT_EQ(sim.contact_duration(), 0.25);
 
   billiard::Settings downwards;
-  downwards.gravity = Vec2(0, -4);
-  billiard::Simulation falling(billiard::box(Vec2(0, 0), Vec2(20, 20)), downwards);
-  falling.add_disc(make_disc(Vec2(10, 10), Vec2(0, 0), 2.0));
+  downwards.gravity = Vector(0, -4);
+  billiard::Simulation falling(billiard::box(Vector(0, 0), Vector(20, 20)), downwards);
+  falling.add_disc(make_disc(Vector(10, 10), Vector(0, 0), 2.0));
   falling.advance(1);
   // sqrt(2 |g| h), h = kRestingBounce mean radii; under gravity the duration is at least
   // 0.01 sqrt(a / |g|).
@@ -175,9 +175,9 @@ void settles_to_a_packed_bed(const Settling p) {
   // Starting area fraction about 0.3. The box is 60 wide, a whole number of diameters: a row of
   // 30 discs fills its floor exactly, the hardest case (no room to move sideways).
   const double width = 60, table_radius = 58;
-  billiard::Simulation sim(std::string(p.container) == "box" ? billiard::box(Vec2(0, 0), Vec2(width, 175))
+  billiard::Simulation sim(std::string(p.container) == "box" ? billiard::box(Vector(0, 0), Vector(width, 175))
                                                              : billiard::circular_table(table_radius),
-                           physics(Vec2(0, -1), {p.restitution, -1.0}));
+                           physics(Vector(0, -1), {p.restitution, -1.0}));
   sim.add_random_discs(n, 1.0, 1.0, 1.0, p.seed);
   sim.set_check_event_discs(true);
   const double tolerance = 1e-12 * std::abs(total_energy(sim));
@@ -226,7 +226,7 @@ TEST(Granular, FreelyCoolingGasFollowsHaffsLaw) {
   // slowly leaves the homogeneous state as clusters start to form).
   const int n = 10000;
   const double e = 0.9, side = std::sqrt(n * kPi / 0.05);
-  billiard::Simulation sim(billiard::periodic_box(side, side), physics(Vec2::Zero(), {e, -1.0}));
+  billiard::Simulation sim(billiard::periodic_box(side, side), physics(Vector::Zero(), {e, -1.0}));
   sim.add_random_discs(n, 1.0, 1.0, 1.0, 5);
   const double t0 = sim.kinetic_energy();
   std::int64_t disc_collisions = 0;
@@ -245,7 +245,7 @@ TEST(Granular, FreelyCoolingDenseGasReaches100CollisionsPerDiscValid) {
   // energy never rising, validate() clean every 10 collisions per disc.
   const int n = 10000;
   const double side = std::sqrt(n * kPi / 0.3);
-  billiard::Simulation sim(billiard::periodic_box(side, side), physics(Vec2::Zero(), {0.5, -1.0}));
+  billiard::Simulation sim(billiard::periodic_box(side, side), physics(Vector::Zero(), {0.5, -1.0}));
   sim.add_random_discs(n, 1.0, 1.0, 1.0, 3);
   sim.set_check_event_discs(true);
   double energy = sim.kinetic_energy();
@@ -268,12 +268,12 @@ namespace {
 // rest, restitution 0.05, below the three-body collapse threshold 7 - 4 sqrt(3) = 0.072
 // (McNamara & Young 1994). Runs to t = 20 with the event log on.
 billiard::Simulation three_disc_channel(std::optional<double> contact_duration) {
-  billiard::Settings settings = physics(Vec2::Zero(), {0.05, -1.0});
+  billiard::Settings settings = physics(Vector::Zero(), {0.05, -1.0});
   settings.contact_duration = contact_duration;
-  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(100, 2.2)), settings);
-  sim.add_disc(make_disc(Vec2(10, 1.1), Vec2(1, 0)));
-  sim.add_disc(make_disc(Vec2(12.5, 1.1), Vec2(0, 0)));
-  sim.add_disc(make_disc(Vec2(15, 1.1), Vec2(0, 0)));
+  billiard::Simulation sim(billiard::box(Vector(0, 0), Vector(100, 2.2)), settings);
+  sim.add_disc(make_disc(Vector(10, 1.1), Vector(1, 0)));
+  sim.add_disc(make_disc(Vector(12.5, 1.1), Vector(0, 0)));
+  sim.add_disc(make_disc(Vector(15, 1.1), Vector(0, 0)));
   sim.set_log_events(true);
   const billiard::AdvanceResult r = sim.advance(1000000, 20.0);
   EXPECT_FALSE(r.stuck) << r.stuck_reason;
@@ -325,11 +325,11 @@ namespace {
 // 200 discs in the box (0,0)-(40,40) under gravity (0, -1), restitution 0.8, with the granular
 // model off: the bed collapses inelastically within a few time units.
 billiard::Simulation collapsing_bed() {
-  billiard::Settings settings = physics(Vec2(0, -1), {0.8, -1.0});
+  billiard::Settings settings = physics(Vector(0, -1), {0.8, -1.0});
   settings.contact_duration = 0.0;
   settings.elastic_impact_speed = 0.0;
   settings.sleep_speed = 0.0;
-  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(40, 40)), settings);
+  billiard::Simulation sim(billiard::box(Vector(0, 0), Vector(40, 40)), settings);
   sim.add_random_discs(200, 1.0, 1.0, 1.0, 7);
   return sim;
 }
@@ -368,7 +368,7 @@ TEST(Granular, StoppingAndGoingOnChangesNothing) {
   // A settling granular bed run in pieces (stopped by collision counts and by durations) ends
   // bit for bit where one uninterrupted run does: a stop changes no disc and no model state.
   auto make = [] {
-    billiard::Simulation sim(billiard::circular_table(22), physics(Vec2(0, -1), {0.8, -1.0}));
+    billiard::Simulation sim(billiard::circular_table(22), physics(Vector(0, -1), {0.8, -1.0}));
     sim.add_random_discs(200, 1.0, 1.0, 1.0, 7);
     return sim;
   };

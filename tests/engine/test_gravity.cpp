@@ -10,7 +10,7 @@
 #include <cmath>
 #include <random>
 
-using billiard::Vec2;
+using billiard::Vector;
 using engine_test::make_disc;
 using engine_test::physics;
 
@@ -26,8 +26,8 @@ TEST(Gravity, FreeFallOntoAFloorBouncesEveryTwoVOverG) {
   // accumulates over the bounces.
   const double h = 20 + billiard::kFixedContactSlack;
   const double v = std::sqrt(2 * 10 * h);
-  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(100, 100)), physics(Vec2(0, -10)));
-  sim.add_disc(make_disc(Vec2(50, 21), Vec2(0, 0)));
+  billiard::Simulation sim(billiard::box(Vector(0, 0), Vector(100, 100)), physics(Vector(0, -10)));
+  sim.add_disc(make_disc(Vector(50, 21), Vector(0, 0)));
   sim.set_log_events(true);
   sim.advance(5);
   ASSERT_EQ(sim.event_log().size(), 5u);
@@ -43,8 +43,8 @@ TEST(Gravity, DiscDroppedInTheCircularTable) {
   // at t = 6 and lands again at t = 9: landings every 6. With the fixed contact slack the reach is
   // 9 + 1e-10: t = sqrt(reach), every 2 sqrt(reach).
   const double reach = 9 + billiard::kFixedContactSlack;
-  billiard::Simulation sim(billiard::circular_table(10), physics(Vec2(0, -2)));
-  sim.add_disc(make_disc(Vec2(0, 0), Vec2(0, 0)));
+  billiard::Simulation sim(billiard::circular_table(10), physics(Vector(0, -2)));
+  sim.add_disc(make_disc(Vector(0, 0), Vector(0, 0)));
   sim.set_log_events(true);
   sim.advance(3);
   ASSERT_EQ(sim.event_log().size(), 3u);
@@ -57,8 +57,8 @@ TEST(Gravity, DiscDroppedInTheCircularTable) {
 TEST(Gravity, SidewaysGravityAnyDirection) {
   // Gravity along +x of 8: from rest at x = 5 in the box [0, 20]^2 (radius 1), the wall x = 20 is
   // reached when 14 = 4 t^2: t = sqrt(3.5) (14 + 1e-10 with the fixed contact slack).
-  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), physics(Vec2(8, 0)));
-  sim.add_disc(make_disc(Vec2(5, 10), Vec2(0, 0)));
+  billiard::Simulation sim(billiard::box(Vector(0, 0), Vector(20, 20)), physics(Vector(8, 0)));
+  sim.add_disc(make_disc(Vector(5, 10), Vector(0, 0)));
   sim.set_log_events(true);
   sim.advance(1);
   ASSERT_EQ(sim.event_log().size(), 1u);
@@ -66,10 +66,10 @@ TEST(Gravity, SidewaysGravityAnyDirection) {
 }
 
 namespace {
-void random_gravity_run(billiard::Simulation& sim, int n, std::int64_t events, std::uint64_t seed, const Vec2& lo,
-                        const Vec2& hi, bool table, double table_radius) {
+void random_gravity_run(billiard::Simulation& sim, int n, std::int64_t events, std::uint64_t seed, const Vector& lo,
+                        const Vector& hi, bool table, double table_radius) {
   std::mt19937_64 rng(seed);
-  const auto discs = engine_test::random_discs(rng, n, 0.5, 1.0, lo, hi, [&](const Vec2& p, double a) {
+  const auto discs = engine_test::random_discs(rng, n, 0.5, 1.0, lo, hi, [&](const Vector& p, double a) {
     if (table) return p.norm() <= table_radius - a;
     return p.x() >= lo.x() + a && p.x() <= hi.x() - a && p.y() >= lo.y() + a && p.y() <= hi.y() - a;
   });
@@ -88,26 +88,26 @@ void random_gravity_run(billiard::Simulation& sim, int n, std::int64_t events, s
 }  // namespace
 
 TEST(Gravity, RandomRunInABoxKeepsEnergyAndNeverOverlaps) {
-  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), physics(Vec2(0.3, -1)));
-  random_gravity_run(sim, 40, 20000, 21, Vec2(0, 0), Vec2(20, 20), false, 0);
+  billiard::Simulation sim(billiard::box(Vector(0, 0), Vector(20, 20)), physics(Vector(0.3, -1)));
+  random_gravity_run(sim, 40, 20000, 21, Vector(0, 0), Vector(20, 20), false, 0);
 }
 
 TEST(Gravity, RandomRunInTheTableKeepsEnergyAndNeverOverlaps) {
-  billiard::Simulation sim(billiard::circular_table(12), physics(Vec2(0, -1)));
-  random_gravity_run(sim, 40, 20000, 22, Vec2(-12, -12), Vec2(12, 12), true, 12);
+  billiard::Simulation sim(billiard::circular_table(12), physics(Vector(0, -1)));
+  random_gravity_run(sim, 40, 20000, 22, Vector(-12, -12), Vector(12, 12), true, 12);
 }
 
 TEST(Gravity, RandomRunWithPolygonCornersAndFreeEnds) {
   // A funnel: segment end points meet the discs under gravity (quartic disc-point times).
-  billiard::Container funnel = billiard::box(Vec2(0, 0), Vec2(30, 30));
-  funnel.add_segment(Vec2(3, 15), Vec2(13, 10));
-  funnel.add_segment(Vec2(27, 15), Vec2(17, 10));
-  billiard::Simulation sim(funnel, physics(Vec2(0, -1)));
+  billiard::Container funnel = billiard::box(Vector(0, 0), Vector(30, 30));
+  funnel.add_segment(Vector(3, 15), Vector(13, 10));
+  funnel.add_segment(Vector(27, 15), Vector(17, 10));
+  billiard::Simulation sim(funnel, physics(Vector(0, -1)));
   std::mt19937_64 rng(23);
-  const auto discs = engine_test::random_discs(rng, 30, 0.5, 1.0, Vec2(0, 0), Vec2(30, 30), [&](const Vec2& p, double a) {
+  const auto discs = engine_test::random_discs(rng, 30, 0.5, 1.0, Vector(0, 0), Vector(30, 30), [&](const Vector& p, double a) {
     return p.x() >= a && p.x() <= 30 - a && p.y() >= a && p.y() <= 30 - a &&
-           billiard::distance_to_segment(p, Vec2(3, 15), Vec2(13, 10)) >= a &&
-           billiard::distance_to_segment(p, Vec2(27, 15), Vec2(17, 10)) >= a;
+           billiard::distance_to_segment(p, Vector(3, 15), Vector(13, 10)) >= a &&
+           billiard::distance_to_segment(p, Vector(27, 15), Vector(17, 10)) >= a;
   });
   engine_test::add_all(sim, discs);
   const double e0 = sim.kinetic_energy() + sim.potential_energy();

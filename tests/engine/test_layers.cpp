@@ -7,7 +7,7 @@
 #include "billiard/engine/replay.hpp"
 #include "billiard/engine/simulation.hpp"
 #include "time_of_impact.hpp"
-#include "billiard/engine/vec2.hpp"
+#include "billiard/engine/plane.hpp"
 #include "billiard/engine/wall.hpp"
 
 #include <gtest/gtest.h>
@@ -17,7 +17,7 @@ namespace billiard {
 struct Collision {
   int wall_hits = 0;
 };
-using Coordinates = int;
+using Rng = int;
 }  // namespace billiard
 
 namespace {

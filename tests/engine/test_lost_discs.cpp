@@ -16,7 +16,7 @@
 using billiard::Container;
 using billiard::Settings;
 using billiard::Simulation;
-using billiard::Vec2;
+using billiard::Vector;
 using engine_test::make_disc;
 
 namespace {
@@ -27,7 +27,7 @@ std::vector<std::string> lost_in_inelastic_beds(const Container& table, double n
   std::vector<std::string> lost;
   for (int seed = 0; seed < seeds; ++seed) {
     Settings settings;
-    settings.gravity = Vec2(0, -1);
+    settings.gravity = Vector(0, -1);
     settings.restitution = {normal, tangential};
     Simulation sim(table, settings);
     sim.add_random_discs(20, 0.13, 1.0, 1.0, static_cast<std::uint64_t>(seed));
@@ -51,7 +51,7 @@ std::string joined(const std::vector<std::string>& lines) {
 TEST(LostDiscs, InelasticBedsStayInCurvedContainers) {
   const auto in_table = lost_in_inelastic_beds(billiard::circular_table(6), 0.0, 0.0, 200);
   EXPECT_TRUE(in_table.empty()) << in_table.size() << " of 200 beds in the table invalid:\n" << joined(in_table);
-  const auto in_stadium = lost_in_inelastic_beds(billiard::stadium(Vec2(0, 0), 4, 4), 0.0, 0.0, 200);
+  const auto in_stadium = lost_in_inelastic_beds(billiard::stadium(Vector(0, 0), 4, 4), 0.0, 0.0, 200);
   EXPECT_TRUE(in_stadium.empty()) << in_stadium.size() << " of 200 beds in the stadium invalid:\n" << joined(in_stadium);
 }
 
@@ -59,7 +59,7 @@ TEST(LostDiscs, InelasticBedsStayInCurvedContainers) {
 TEST(LostDiscs, SmoothInelasticBedsStayInCurvedContainers) {
   const auto in_table = lost_in_inelastic_beds(billiard::circular_table(6), 0.0, -1.0, 200);
   EXPECT_TRUE(in_table.empty()) << in_table.size() << " of 200 beds in the table invalid:\n" << joined(in_table);
-  const auto in_stadium = lost_in_inelastic_beds(billiard::stadium(Vec2(0, 0), 4, 4), 0.0, -1.0, 200);
+  const auto in_stadium = lost_in_inelastic_beds(billiard::stadium(Vector(0, 0), 4, 4), 0.0, -1.0, 200);
   EXPECT_TRUE(in_stadium.empty()) << in_stadium.size() << " of 200 beds in the stadium invalid:\n" << joined(in_stadium);
 }
 
@@ -74,31 +74,31 @@ TEST(LostDiscs, LongPeriodicRunsUnderGravityStayInTheBox) {
   struct Gas {
     int discs;
     double radius, duration;
-    Vec2 gravity;
+    Vector gravity;
     std::int64_t collisions_at_least;
   };
-  for (const Gas& gas : {Gas{2, 0.0617, 6000, Vec2(0, -1), 10}, Gas{40, 0.5, 3000, Vec2(1.1, -3.3) * 1e4, 10000}}) {
+  for (const Gas& gas : {Gas{2, 0.0617, 6000, Vector(0, -1), 10}, Gas{40, 0.5, 3000, Vector(1.1, -3.3) * 1e4, 10000}}) {
     Settings settings;
     settings.gravity = gas.gravity;
-    const Vec2 period(10.77, 12.97);
+    const Vector period(10.77, 12.97);
     Simulation sim(billiard::periodic_box(period.x(), period.y()), settings);
     sim.add_random_discs(gas.discs, gas.radius, 1.0, 1.0, 120);
     sim.set_check_event_discs(true);
     const auto centre = [&](const billiard::State& state, const billiard::Images& images) {
-      Vec2 sum = Vec2::Zero();
+      Vector sum = Vector::Zero();
       for (Eigen::Index i = 0; i < state.positions.rows(); ++i) {
-        sum += state.positions.row(i).transpose() + Vec2(static_cast<double>(images(i, 0)) * period.x(),
+        sum += state.positions.row(i) + Vector(static_cast<double>(images(i, 0)) * period.x(),
                                                          static_cast<double>(images(i, 1)) * period.y());
       }
-      return Vec2(sum / static_cast<double>(state.positions.rows()));
+      return Vector(sum / static_cast<double>(state.positions.rows()));
     };
     const auto internal_energy = [](const billiard::State& state) {
-      const Vec2 mean = state.velocities.colwise().mean().transpose();
-      return 0.5 * (state.velocities.rowwise() - mean.transpose()).squaredNorm();
+      const Vector mean = state.velocities.colwise().mean();
+      return 0.5 * (state.velocities.rowwise() - mean).squaredNorm();
     };
     const billiard::State start = sim.current_state();
-    const Vec2 centre0 = centre(start, sim.images());
-    const Vec2 momentum0 = start.velocities.colwise().sum().transpose();  // (unit masses)
+    const Vector centre0 = centre(start, sim.images());
+    const Vector momentum0 = start.velocities.colwise().sum();  // (unit masses)
     const auto result = sim.advance(std::numeric_limits<std::int64_t>::max(), gas.duration);
     const std::string what = std::to_string(gas.discs) + " discs";
     EXPECT_FALSE(result.stuck) << what << ": " << result.stuck_reason;
@@ -108,13 +108,13 @@ TEST(LostDiscs, LongPeriodicRunsUnderGravityStayInTheBox) {
                                             << result.cell_crossings << " cell crossings, time " << sim.time();
     const billiard::State end = sim.current_state();
     const double t = sim.time(), n = gas.discs;
-    const Vec2 fall_speed = gas.gravity * t;
-    EXPECT_LT((Vec2(end.velocities.colwise().sum().transpose()) - (momentum0 + n * fall_speed)).norm(),
+    const Vector fall_speed = gas.gravity * t;
+    EXPECT_LT((Vector(end.velocities.colwise().sum()) - (momentum0 + n * fall_speed)).norm(),
               1e-12 * n * fall_speed.norm()) << what;
-    const Vec2 expected_centre = centre0 + momentum0 * t / n + 0.5 * gas.gravity * t * t;
+    const Vector expected_centre = centre0 + momentum0 * t / n + 0.5 * gas.gravity * t * t;
     // (To rounding of numbers as large as the fall, far below a period: a wrong image count shows.)
     EXPECT_LT((centre(end, sim.images()) - expected_centre).norm(), 1e-3 + 1e-14 * expected_centre.norm())
-        << what << ": centre of mass (" << centre(end, sim.images()).transpose() << ") against (" << expected_centre.transpose() << ")";
+        << what << ": centre of mass (" << centre(end, sim.images()) << ") against (" << expected_centre << ")";
     EXPECT_NEAR(internal_energy(end), internal_energy(start), 1e-9 * internal_energy(start)) << what;
   }
 }
@@ -123,9 +123,9 @@ TEST(LostDiscs, LongPeriodicRunsUnderGravityStayInTheBox) {
 // (wrapped plus image counts times the period) where r0 + v t puts it, to 1e-9 of the distance
 // travelled.
 TEST(LostDiscs, LongPeriodicRunsKeepTheirPlace) {
-  const Vec2 period(3.3, 2.9);
+  const Vector period(3.3, 2.9);
   Simulation sim(billiard::periodic_box(period.x(), period.y()));
-  const Vec2 start(1.1, 0.7), velocity(0.8660254037844386, 0.5);
+  const Vector start(1.1, 0.7), velocity(0.8660254037844386, 0.5);
   sim.add_disc(make_disc(start, velocity, 0.05));
   sim.set_check_event_discs(true);
   const double duration = 8e6;
@@ -134,7 +134,7 @@ TEST(LostDiscs, LongPeriodicRunsKeepTheirPlace) {
   EXPECT_EQ(sim.validate(), std::nullopt) << "after " << result.cell_crossings << " cell crossings";
   const billiard::State state = sim.current_state();
   const billiard::Images images = sim.images();
-  const Vec2 unwrapped(state.positions(0, 0) + static_cast<double>(images(0, 0)) * period.x(),
+  const Vector unwrapped(state.positions(0, 0) + static_cast<double>(images(0, 0)) * period.x(),
                       state.positions(0, 1) + static_cast<double>(images(0, 1)) * period.y());
   EXPECT_LT((unwrapped - (start + duration * velocity)).norm(), 1e-9 * duration) << "unwrapped (" << unwrapped.x() << ", "
                                                                                   << unwrapped.y() << ")";
@@ -147,11 +147,11 @@ TEST(LostDiscs, HugeSpinsStayInTheirCells) {
     for (const double tangential : {1.0, 0.0}) {
       Settings settings;
       settings.restitution = {1.0, tangential};
-      Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), settings);
-      billiard::Disc spinning = make_disc(Vec2(5, 10), Vec2(1, 0), 0.5);
+      Simulation sim(billiard::box(Vector(0, 0), Vector(20, 20)), settings);
+      billiard::Disc spinning = make_disc(Vector(5, 10), Vector(1, 0), 0.5);
       spinning.spin = spin;
       sim.add_disc(spinning);
-      sim.add_disc(make_disc(Vec2(8, 10), Vec2(-1, 0), 0.5));
+      sim.add_disc(make_disc(Vector(8, 10), Vector(-1, 0), 0.5));
       sim.add_random_discs(20, 0.3, 1.0, 1.0, 7);
       sim.set_check_event_discs(true);
       const auto result = sim.advance(2000);
@@ -165,10 +165,10 @@ TEST(LostDiscs, HugeSpinsStayInTheirCells) {
 // The largest lengths and gravity allowed with nearly inelastic discs: a union of circles scaled by
 // 1e20 under gravity 1e50, restitution 1e-3.
 TEST(LostDiscs, HugeUnionOfCirclesUnderHugeGravity) {
-  billiard::Points centres(3, 2);
+  billiard::Coordinates centres(3, 2);
   centres << 0, 0, 5e20, 1e20, -3e20, 4e20;
   const std::vector<double> radii = {6e20, 4e20, 5e20};
-  for (const Vec2& gravity : {Vec2(0, -1e50), Vec2(1e50, -1e50), Vec2(-1e50, 0)}) {
+  for (const Vector& gravity : {Vector(0, -1e50), Vector(1e50, -1e50), Vector(-1e50, 0)}) {
     for (int seed = 0; seed < 10; ++seed) {
       Settings settings;
       settings.gravity = gravity;
@@ -187,9 +187,9 @@ TEST(LostDiscs, HugeUnionOfCirclesUnderHugeGravity) {
 // squares underflow in the times of impact (1e-162 after 1,200 collisions): a disc then passed
 // through the Sinai obstacle. The run must stop, stuck, with a valid state, and stay stopped.
 TEST(LostDiscs, AGasCooledBelowTheTimesOfImpactStopsValid) {
-  Container table = billiard::sinai_billiard(Vec2(0, 0), Vec2(20, 20), 5);
-  table.add_segment(Vec2(1e-50, 4.9406564584124654e-324), Vec2(-1.0356457581396015, 11.328882758487847));
-  table.add_segment(Vec2(0, 3.6400437656281923), Vec2(-15.124859933326603, 5.4112438149963857));
+  Container table = billiard::sinai_billiard(Vector(0, 0), Vector(20, 20), 5);
+  table.add_segment(Vector(1e-50, 4.9406564584124654e-324), Vector(-1.0356457581396015, 11.328882758487847));
+  table.add_segment(Vector(0, 3.6400437656281923), Vector(-15.124859933326603, 5.4112438149963857));
   Settings settings;
   settings.restitution = {0.5, -0.0};
   Simulation sim(table, settings);

@@ -11,17 +11,17 @@
 #include <cstdint>
 #include <optional>
 
-using billiard::Vec2;
+using billiard::Vector;
 using engine_test::make_disc;
 
 namespace {
 
 // Row i of the unwrapped positions of `sim` now.
-Vec2 unwrapped(const billiard::Simulation& sim, int i) {
+Vector unwrapped(const billiard::Simulation& sim, int i) {
   const billiard::State state = sim.current_state();
   const billiard::Images images = sim.images();
-  const Vec2 period = sim.container().period();
-  return Vec2(state.positions(i, 0) + static_cast<double>(images(i, 0)) * period.x(),
+  const Vector period = sim.container().period();
+  return Vector(state.positions(i, 0) + static_cast<double>(images(i, 0)) * period.x(),
               state.positions(i, 1) + static_cast<double>(images(i, 1)) * period.y());
 }
 
@@ -30,14 +30,14 @@ Vec2 unwrapped(const billiard::Simulation& sim, int i) {
 TEST(PeriodicImages, LoneDiscUnwrapsToFreeFlight) {
   // A lone disc meets nothing: it crosses the box many times, right and down, and its unwrapped
   // position is start + v t up to rounding (about 1e-16 of the distance per crossing).
-  const Vec2 period(10, 8);
-  const Vec2 start(3, 2), velocity(7.3, -5.1);
+  const Vector period(10, 8);
+  const Vector start(3, 2), velocity(7.3, -5.1);
   billiard::Simulation sim(billiard::periodic_box(period.x(), period.y()));
   sim.add_disc(make_disc(start, velocity, 0.5));
   for (int step = 1; step <= 40; ++step) {
     sim.advance(billiard::kAllEvents, 0.37);
     const double t = sim.time();
-    const Vec2 expected = start + t * velocity;
+    const Vector expected = start + t * velocity;
     EXPECT_NEAR((unwrapped(sim, 0) - expected).norm(), 0.0, 1e-12 * expected.norm()) << "at t = " << t;
     // The counts themselves: whole boxes travelled, as floor((start + v t) / period).
     EXPECT_EQ(sim.images()(0, 0), static_cast<std::int64_t>(std::floor(expected.x() / period.x()))) << "at t = " << t;
@@ -49,8 +49,8 @@ TEST(PeriodicImages, LoneDiscUnwrapsToFreeFlight) {
 
 TEST(PeriodicImages, LoneDiscUnderGravityUnwrapsToAParabola) {
   // Gravity in a periodic box: the disc falls through the box ever faster, up and to the left.
-  const Vec2 period(6, 9);
-  const Vec2 start(1, 4), velocity(-2.5, 6.0), gravity(0.4, -3.0);
+  const Vector period(6, 9);
+  const Vector start(1, 4), velocity(-2.5, 6.0), gravity(0.4, -3.0);
   billiard::Settings settings;
   settings.gravity = gravity;
   billiard::Simulation sim(billiard::periodic_box(period.x(), period.y()), settings);
@@ -59,7 +59,7 @@ TEST(PeriodicImages, LoneDiscUnderGravityUnwrapsToAParabola) {
   for (int step = 1; step <= 30; ++step) {
     sim.advance(billiard::kAllEvents, 0.25);
     const double t = sim.time();
-    const Vec2 expected = start + t * velocity + 0.5 * t * t * gravity;
+    const Vector expected = start + t * velocity + 0.5 * t * t * gravity;
     EXPECT_NEAR((unwrapped(sim, 0) - expected).norm(), 0.0, 1e-11 * (expected.norm() + period.norm()))
         << "at t = " << t;
     EXPECT_EQ(sim.images()(0, 0), static_cast<std::int64_t>(std::floor(expected.x() / period.x()))) << "at t = " << t;
@@ -74,7 +74,7 @@ TEST(PeriodicImages, LoneDiscUnderGravityUnwrapsToAParabola) {
 TEST(PeriodicImages, DiscStartingOnTheLowerFaceMovingOut) {
   // At x = 0 moving left, the disc crosses at once: wrapped near the width, image -1.
   billiard::Simulation sim(billiard::periodic_box(10, 10));
-  sim.add_disc(make_disc(Vec2(0, 5), Vec2(-1, 0), 0.5));
+  sim.add_disc(make_disc(Vector(0, 5), Vector(-1, 0), 0.5));
   sim.advance(billiard::kAllEvents, 1e-3);
   EXPECT_EQ(sim.images()(0, 0), -1);
   EXPECT_EQ(sim.images()(0, 1), 0);
@@ -142,7 +142,7 @@ TEST(PeriodicImages, ZeroWithoutAPeriodicBoxAndBeforeTheFirstAdvance) {
   billiard::Simulation periodic(billiard::periodic_box(10, 10));
   periodic.add_random_discs(5, 0.5, 1.0, 1.0, 1);
   EXPECT_EQ(periodic.images(), billiard::Images::Zero(5, 2));
-  billiard::Simulation box(billiard::box(Vec2(0, 0), Vec2(10, 10)));
+  billiard::Simulation box(billiard::box(Vector(0, 0), Vector(10, 10)));
   box.add_random_discs(5, 0.5, 1.0, 1.0, 1);
   box.advance(1000);
   EXPECT_EQ(box.images(), billiard::Images::Zero(5, 2));

@@ -14,7 +14,7 @@
 
 namespace {
 
-using billiard::Vec2;
+using billiard::Vector;
 
 double largest_difference(const billiard::State& a, const billiard::State& b) {
   return std::max((a.positions - b.positions).cwiseAbs().maxCoeff(), (a.velocities - b.velocities).cwiseAbs().maxCoeff());
@@ -23,9 +23,9 @@ double largest_difference(const billiard::State& a, const billiard::State& b) {
 billiard::Simulation logged_run(bool periodic) {
   std::mt19937_64 rng(periodic ? 7 : 8);
   billiard::Settings settings;
-  if (!periodic) settings.gravity = Vec2(0.1, -0.3);
-  billiard::Simulation sim(periodic ? billiard::periodic_box(20, 20) : billiard::box(Vec2(0, 0), Vec2(20, 20)), settings);
-  const auto discs = engine_test::random_discs(rng, 25, 0.5, 1.0, Vec2(0, 0), Vec2(20, 20), [](const Vec2& p, double a) {
+  if (!periodic) settings.gravity = Vector(0.1, -0.3);
+  billiard::Simulation sim(periodic ? billiard::periodic_box(20, 20) : billiard::box(Vector(0, 0), Vector(20, 20)), settings);
+  const auto discs = engine_test::random_discs(rng, 25, 0.5, 1.0, Vector(0, 0), Vector(20, 20), [](const Vector& p, double a) {
     return p.x() >= a && p.x() <= 20 - a && p.y() >= a && p.y() <= 20 - a;
   });
   engine_test::add_all(sim, discs);
@@ -49,8 +49,8 @@ TEST(Replay, EventByEventMatchesTheLogAndEndsAtTheLiveState) {
       previous = s.time;
       for (int i = 0; i < s.positions.rows(); ++i) {
         for (int j = i + 1; j < s.positions.rows(); ++j) {
-          Vec2 d = (s.positions.row(i) - s.positions.row(j)).transpose();
-          if (periodic) d -= Vec2(20 * std::round(d.x() / 20), 20 * std::round(d.y() / 20));
+          Vector d = (s.positions.row(i) - s.positions.row(j));
+          if (periodic) d -= Vector(20 * std::round(d.x() / 20), 20 * std::round(d.y() / 20));
           ASSERT_GE(d.norm(), radii[i] + radii[j] - 1e-9) << "event " << k << ": discs " << i << ", " << j;
         }
       }
@@ -79,13 +79,13 @@ TEST(Replay, ATwoDiscHeadOnRunByHand) {
   // Discs of radius 1 at x = 2 and 8 (y = 5) in a 10 x 10 box, approaching at speed 1 each:
   // contact at t = 2 (gap 6 - 2 = 4 closed at relative speed 2), then they fly back and hit
   // the walls at t = 2 + 4 = 6 (x = 1 and 9).
-  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(10, 10)));
+  billiard::Simulation sim(billiard::box(Vector(0, 0), Vector(10, 10)));
   billiard::Disc a;
-  a.position = Vec2(2, 5);
-  a.velocity = Vec2(1, 0);
+  a.position = Vector(2, 5);
+  a.velocity = Vector(1, 0);
   billiard::Disc b = a;
-  b.position = Vec2(8, 5);
-  b.velocity = Vec2(-1, 0);
+  b.position = Vector(8, 5);
+  b.velocity = Vector(-1, 0);
   sim.add_disc(a);
   sim.add_disc(b);
   sim.set_log_events(true);

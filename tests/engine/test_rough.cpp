@@ -8,7 +8,7 @@
 #include <cmath>
 #include <random>
 
-using billiard::Vec2;
+using billiard::Vector;
 using engine_test::make_disc;
 using engine_test::physics;
 
@@ -23,9 +23,9 @@ billiard::Settings exchanging() {
 TEST(Rough, UnequalMassesHeadOn) {
   // m = 1 at x = -5 moving +2, m = 3 at rest at x = 5 (radius 1): contact at t = 4; elastic 1D
   // result v1 = (1 - 3) / 4 * 2 = -1, v2 = 2 * 1 / 4 * 2 = 1.
-  billiard::Simulation sim(billiard::box(Vec2(-20, -20), Vec2(20, 20)));
-  sim.add_disc(make_disc(Vec2(-5, 0), Vec2(2, 0), 1.0, 1.0));
-  sim.add_disc(make_disc(Vec2(5, 0), Vec2(0, 0), 1.0, 3.0));
+  billiard::Simulation sim(billiard::box(Vector(-20, -20), Vector(20, 20)));
+  sim.add_disc(make_disc(Vector(-5, 0), Vector(2, 0), 1.0, 1.0));
+  sim.add_disc(make_disc(Vector(5, 0), Vector(0, 0), 1.0, 3.0));
   sim.set_log_events(true);
   sim.advance(1);
   ASSERT_EQ(sim.event_log().size(), 1u);
@@ -37,9 +37,9 @@ TEST(Rough, UnequalMassesHeadOn) {
 TEST(Rough, UnequalRadiiMeetAtTheSumOfRadii) {
   // Radii 0.5 and 2 at x = 0 and x = 10, approaching at relative speed 3: the gap of 7.5 closes
   // at t = 2.5.
-  billiard::Simulation sim(billiard::box(Vec2(-20, -20), Vec2(20, 20)));
-  sim.add_disc(make_disc(Vec2(0, 0), Vec2(1, 0), 0.5));
-  sim.add_disc(make_disc(Vec2(10, 0), Vec2(-2, 0), 2.0));
+  billiard::Simulation sim(billiard::box(Vector(-20, -20), Vector(20, 20)));
+  sim.add_disc(make_disc(Vector(0, 0), Vector(1, 0), 0.5));
+  sim.add_disc(make_disc(Vector(10, 0), Vector(-2, 0), 2.0));
   sim.set_log_events(true);
   sim.advance(1);
   ASSERT_EQ(sim.event_log().size(), 1u);
@@ -49,9 +49,9 @@ TEST(Rough, UnequalRadiiMeetAtTheSumOfRadii) {
 TEST(Rough, InelasticNormalRestitutionLosesTheExpectedEnergy) {
   // Equal masses, e_n = 1/2, head-on at +2 against rest: v1 = (1 - e)/2 * 2 = 0.5,
   // v2 = (1 + e)/2 * 2 = 1.5; kinetic energy 2 -> (0.25 + 2.25) / 2 = 1.25.
-  billiard::Simulation sim(billiard::box(Vec2(-20, -20), Vec2(20, 20)), physics(Vec2::Zero(), {0.5, -1.0}));
-  sim.add_disc(make_disc(Vec2(-5, 0), Vec2(2, 0)));
-  sim.add_disc(make_disc(Vec2(5, 0), Vec2(0, 0)));
+  billiard::Simulation sim(billiard::box(Vector(-20, -20), Vector(20, 20)), physics(Vector::Zero(), {0.5, -1.0}));
+  sim.add_disc(make_disc(Vector(-5, 0), Vector(2, 0)));
+  sim.add_disc(make_disc(Vector(5, 0), Vector(0, 0)));
   sim.advance(1);
   EXPECT_DOUBLE_EQ(sim.kinetic_energy(), 1.25);
 }
@@ -62,8 +62,8 @@ TEST(Rough, SpinningDiscKicksItselfSidewaysOffAWall) {
   // with sigma = (0, -1): tangential 2 along +x... so g_t = (2, 0); the impulse
   // -(1 + 1) [1 + 2]^-1 g_t = (-4/3, 0) gives vx = -4/3 and spin 2 + 2 (sigma x Q) = 2 - 8/3 = -2/3.
   // The contact point's tangential velocity -4/3 + (-2/3) = -2 is reversed; energy is kept.
-  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), physics(Vec2::Zero(), {1.0, 1.0}));
-  billiard::Disc d = make_disc(Vec2(10, 5), Vec2(0, -1));
+  billiard::Simulation sim(billiard::box(Vector(0, 0), Vector(20, 20)), physics(Vector::Zero(), {1.0, 1.0}));
+  billiard::Disc d = make_disc(Vector(10, 5), Vector(0, -1));
   d.spin = 2;
   sim.add_disc(d);
   const double e0 = sim.kinetic_energy();
@@ -80,9 +80,9 @@ TEST(Rough, PerfectlyRoughMixedDiscsConserveEnergy) {
   // table wall rough too): translational + rotational energy is conserved (1e-12 relative over
   // 50 000 collisions), validate() after every event.
   std::mt19937_64 rng(31);
-  billiard::Simulation sim(billiard::circular_table(15), physics(Vec2::Zero(), {1.0, 1.0}));
-  const auto discs = engine_test::random_discs(rng, 40, 0.5, 1.5, Vec2(-15, -15), Vec2(15, 15),
-                                               [](const Vec2& p, double a) { return p.norm() <= 15 - a; });
+  billiard::Simulation sim(billiard::circular_table(15), physics(Vector::Zero(), {1.0, 1.0}));
+  const auto discs = engine_test::random_discs(rng, 40, 0.5, 1.5, Vector(-15, -15), Vector(15, 15),
+                                               [](const Vector& p, double a) { return p.norm() <= 15 - a; });
   std::normal_distribution<double> normal;
   for (std::size_t k = 0; k < discs.positions.size(); ++k) {
     billiard::Disc d = make_disc(discs.positions[k], discs.velocities[k], discs.radii[k], discs.radii[k] * discs.radii[k]);
@@ -100,8 +100,8 @@ TEST(Rough, PerfectlyRoughMixedDiscsConserveEnergy) {
 TEST(Rough, CustomInertia) {
   // A ring (I = m a^2) instead of a uniform disc: effective tangential mass [1 + 1]^-1 = 1/2,
   // impulse -(2)(1/2)(2, 0) = (-2, 0): vx = -2, spin 2 + (1)(1)(-2) = 0.
-  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), physics(Vec2::Zero(), {1.0, 1.0}));
-  billiard::Disc d = make_disc(Vec2(10, 5), Vec2(0, -1));
+  billiard::Simulation sim(billiard::box(Vector(0, 0), Vector(20, 20)), physics(Vector::Zero(), {1.0, 1.0}));
+  billiard::Disc d = make_disc(Vector(10, 5), Vector(0, -1));
   d.spin = 2;
   d.inertia = 1.0;
   sim.add_disc(d);
@@ -116,25 +116,25 @@ TEST(Exchange, ObliqueEqualDiscsSwapWholeVelocitiesExactly) {
   // Disc 0 at the origin moving (1, 0.5), disc 1 at (3, 0) moving (-1, 0.25): the gap of 1 along
   // x closes at relative speed 2 while y drifts apart by 0.25 t, so they touch before t = 0.5 at
   // an angle; smooth discs would exchange only the normal components.
-  billiard::Simulation sim(billiard::box(Vec2(-20, -20), Vec2(20, 20)), exchanging());
-  sim.add_disc(make_disc(Vec2(0, 0), Vec2(1, 0.5), 1.0));
-  sim.add_disc(make_disc(Vec2(3, 0), Vec2(-1, 0.25), 1.0));
+  billiard::Simulation sim(billiard::box(Vector(-20, -20), Vector(20, 20)), exchanging());
+  sim.add_disc(make_disc(Vector(0, 0), Vector(1, 0.5), 1.0));
+  sim.add_disc(make_disc(Vector(3, 0), Vector(-1, 0.25), 1.0));
   sim.set_log_events(true);
   sim.advance(1);
   ASSERT_EQ(sim.event_log().size(), 1u);
   const auto& hit = sim.event_log()[0];
-  EXPECT_EQ(hit.velocity, Vec2(-1, 0.25));  // exactly: a swap, no arithmetic
-  EXPECT_EQ(hit.other_velocity, Vec2(1, 0.5));
+  EXPECT_EQ(hit.velocity, Vector(-1, 0.25));  // exactly: a swap, no arithmetic
+  EXPECT_EQ(hit.other_velocity, Vector(1, 0.5));
 }
 
 TEST(Exchange, WallsStillReflectOnlyTheNormalComponent) {
-  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(10, 10)), exchanging());
-  sim.add_disc(make_disc(Vec2(5, 5), Vec2(2, 1), 1.0));
+  billiard::Simulation sim(billiard::box(Vector(0, 0), Vector(10, 10)), exchanging());
+  sim.add_disc(make_disc(Vector(5, 5), Vector(2, 1), 1.0));
   sim.set_log_events(true);
   sim.advance(1);  // the wall x = 10 at t = 2
   ASSERT_EQ(sim.event_log().size(), 1u);
   EXPECT_DOUBLE_EQ(sim.event_log()[0].time, 2.0);
-  EXPECT_EQ(sim.event_log()[0].velocity, Vec2(-2, 1));
+  EXPECT_EQ(sim.event_log()[0].velocity, Vector(-2, 1));
 }
 
 TEST(Exchange, LongRunConservesEnergyAndMomentumInAPeriodicBox) {
@@ -145,9 +145,9 @@ TEST(Exchange, LongRunConservesEnergyAndMomentumInAPeriodicBox) {
   const double energy = sim.kinetic_energy();
   const auto momentum = [&] {
     const auto state = sim.current_state();
-    return Vec2(state.velocities.col(0).sum(), state.velocities.col(1).sum());
+    return Vector(state.velocities.col(0).sum(), state.velocities.col(1).sum());
   };
-  const Vec2 start = momentum();
+  const Vector start = momentum();
   sim.advance(20000);
   EXPECT_NEAR(sim.kinetic_energy(), energy, 1e-12 * energy);
   EXPECT_LT((momentum() - start).norm(), 1e-10);

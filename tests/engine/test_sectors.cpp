@@ -14,7 +14,7 @@
 #include <set>
 #include <vector>
 
-using billiard::Vec2;
+using billiard::Vector;
 using engine_test::make_disc;
 
 namespace {
@@ -28,10 +28,10 @@ billiard::Simulation make(const Setup& setup, std::uint64_t seed, int n, double 
   billiard::Settings settings;
   settings.cell_size = setup.cell;
   settings.prefetch = setup.prefetch;
-  billiard::Simulation sim(setup.periodic ? billiard::periodic_box(side, side) : billiard::box(Vec2(0, 0), Vec2(side, side)),
+  billiard::Simulation sim(setup.periodic ? billiard::periodic_box(side, side) : billiard::box(Vector(0, 0), Vector(side, side)),
                            settings);
   std::mt19937_64 rng(seed);
-  const auto discs = engine_test::random_discs(rng, n, 0.6, 1.0, Vec2(0, 0), Vec2(side, side), [&](const Vec2& p, double a) {
+  const auto discs = engine_test::random_discs(rng, n, 0.6, 1.0, Vector(0, 0), Vector(side, side), [&](const Vector& p, double a) {
     // Away from the edges in both cases (in the periodic box, so that no disc overlaps an
     // image of another across the boundary).
     return p.x() >= a && p.x() <= side - a && p.y() >= a && p.y() <= side - a;
@@ -102,10 +102,10 @@ TEST(Sectors, ThreeDiscsTouchingAtOnce) {
   // A at x = -3 moving +1, B at rest at 0, C at x = 3 moving -1 (radius 1): A and C touch B at
   // t = 1 together. Processed one after another at the same instant (A-B, B-C, then A-B again,
   // or the mirror order), equal smooth discs end with A -1, B 0, C +1: three events at t = 1.
-  billiard::Simulation sim(billiard::box(Vec2(-20, -20), Vec2(20, 20)));
-  sim.add_disc(make_disc(Vec2(-3, 0), Vec2(1, 0)));
-  sim.add_disc(make_disc(Vec2(0, 0), Vec2(0, 0)));
-  sim.add_disc(make_disc(Vec2(3, 0), Vec2(-1, 0)));
+  billiard::Simulation sim(billiard::box(Vector(-20, -20), Vector(20, 20)));
+  sim.add_disc(make_disc(Vector(-3, 0), Vector(1, 0)));
+  sim.add_disc(make_disc(Vector(0, 0), Vector(0, 0)));
+  sim.add_disc(make_disc(Vector(3, 0), Vector(-1, 0)));
   sim.set_log_events(true);
   sim.set_validate_every_event(true);
   sim.advance(billiard::kAllEvents, 5.0);
@@ -125,7 +125,7 @@ TEST(Sectors, LowAndHighDensityRunsStayValid) {
   for (double fraction : {0.05, 0.6}) {
     const double side = std::sqrt(1000 * M_PI / fraction);
     billiard::Simulation sim(billiard::periodic_box(side, side));
-    billiard::Points positions(1000, 2), velocities(1000, 2);
+    billiard::Coordinates positions(1000, 2), velocities(1000, 2);
     std::mt19937_64 rng(5);
     std::normal_distribution<double> normal;
     for (int k = 0; k < 1000; ++k) {
@@ -164,14 +164,14 @@ TEST(Sectors, PrefetchingAheadChangesNoEvent) {
 // cell is back to three, every cell's capacity doubled when one is full. Random insertions and
 // removals against a plain set per cell; the walls' flag must survive them.
 TEST(Sectors, CellRecordsKeepEveryDiscThroughSpillsAndGrowth) {
-  billiard::Grid grid = billiard::make_grid(Vec2(0, 0), Vec2(4, 4), 1.0, false);
+  billiard::Grid grid = billiard::make_grid(Vector(0, 0), Vector(4, 4), 1.0, false);
   ASSERT_EQ(grid.nx * grid.ny, 16);
   billiard::set_capacity(grid, 5);
   // One wall along the bottom edge: listed in the bottom row of cells only.
   billiard::WallShape bottom;
   bottom.kind = billiard::WallKind::Segment;
-  bottom.a = Vec2(0, 0);
-  bottom.b = Vec2(4, 0);
+  bottom.a = Vector(0, 0);
+  bottom.b = Vector(4, 0);
   billiard::assign_walls(grid, {bottom}, 0.5);
   std::vector<std::multiset<int>> expected(16);
   std::mt19937_64 rng(3);

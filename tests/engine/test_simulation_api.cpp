@@ -17,7 +17,7 @@
 #include <type_traits>
 #include <vector>
 
-using billiard::Vec2;
+using billiard::Vector;
 using engine_test::make_disc;
 
 namespace {
@@ -33,9 +33,9 @@ void expect_refused(Call call, std::initializer_list<const char*> pieces) {
 }
 
 billiard::Simulation two_discs() {
-  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(10, 10)));
-  sim.add_disc(make_disc(Vec2(2, 2), Vec2(1, 0)));
-  sim.add_disc(make_disc(Vec2(6, 6), Vec2(0, 1)));
+  billiard::Simulation sim(billiard::box(Vector(0, 0), Vector(10, 10)));
+  sim.add_disc(make_disc(Vector(2, 2), Vector(1, 0)));
+  sim.add_disc(make_disc(Vector(6, 6), Vector(0, 1)));
   return sim;
 }
 }  // namespace
@@ -44,14 +44,14 @@ TEST(Api, BadDiscsAreRefusedNamingTheDiscAndTheValue) {
   billiard::Simulation sim = two_discs();
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();
-  expect_refused([&] { sim.add_disc(make_disc(Vec2(nan, 1), Vec2(0, 0))); }, {"disc 2", "position", "nan"});
-  expect_refused([&] { sim.add_disc(make_disc(Vec2(4, 4), Vec2(inf, 0))); }, {"disc 2", "velocity", "inf"});
-  expect_refused([&] { sim.add_disc(make_disc(Vec2(4, 4), Vec2(0, 0), -0.5)); }, {"disc 2", "radius", "-0.5"});
-  expect_refused([&] { sim.add_disc(make_disc(Vec2(4, 4), Vec2(0, 0), 0.5, 0.0)); }, {"disc 2", "mass", "0"});
-  expect_refused([&] { sim.add_disc(make_disc(Vec2(2.5, 2.5), Vec2(0, 0))); }, {"disc 2", "overlaps disc 0"});
-  expect_refused([&] { sim.add_disc(make_disc(Vec2(9.5, 5), Vec2(0, 0))); }, {"disc 2", "overlaps wall"});
-  expect_refused([&] { sim.add_disc(make_disc(Vec2(15, 5), Vec2(0, 0))); }, {"disc 2", "outside"});
-  billiard::Disc bad_inertia = make_disc(Vec2(4, 8), Vec2(0, 0));
+  expect_refused([&] { sim.add_disc(make_disc(Vector(nan, 1), Vector(0, 0))); }, {"disc 2", "position", "nan"});
+  expect_refused([&] { sim.add_disc(make_disc(Vector(4, 4), Vector(inf, 0))); }, {"disc 2", "velocity", "inf"});
+  expect_refused([&] { sim.add_disc(make_disc(Vector(4, 4), Vector(0, 0), -0.5)); }, {"disc 2", "radius", "-0.5"});
+  expect_refused([&] { sim.add_disc(make_disc(Vector(4, 4), Vector(0, 0), 0.5, 0.0)); }, {"disc 2", "mass", "0"});
+  expect_refused([&] { sim.add_disc(make_disc(Vector(2.5, 2.5), Vector(0, 0))); }, {"disc 2", "overlaps disc 0"});
+  expect_refused([&] { sim.add_disc(make_disc(Vector(9.5, 5), Vector(0, 0))); }, {"disc 2", "overlaps wall"});
+  expect_refused([&] { sim.add_disc(make_disc(Vector(15, 5), Vector(0, 0))); }, {"disc 2", "outside"});
+  billiard::Disc bad_inertia = make_disc(Vector(4, 8), Vector(0, 0));
   bad_inertia.inertia = -1.0;
   expect_refused([&] { sim.add_disc(bad_inertia); }, {"disc 2", "inertia", "-1"});
   // No disc has a moment above a thin ring's, mass radius^2 (here 1; test_rough's discs have
@@ -89,12 +89,12 @@ TEST(Api, BadSettingsFieldsAreRefusedByTheSimulation) {
   auto refused = [](const std::function<void(billiard::Settings&)>& spoil, std::initializer_list<const char*> pieces) {
     billiard::Settings settings;
     spoil(settings);
-    expect_refused([&] { billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(10, 10)), settings); }, pieces);
+    expect_refused([&] { billiard::Simulation sim(billiard::box(Vector(0, 0), Vector(10, 10)), settings); }, pieces);
   };
-  refused([&](billiard::Settings& s) { s.gravity = Vec2(0, nan); }, {"settings.gravity", "nan"});
-  refused([&](billiard::Settings& s) { s.gravity = Vec2(-inf, 0); }, {"settings.gravity", "inf"});
-  refused([](billiard::Settings& s) { s.gravity = Vec2(1e51, 0); }, {"settings.gravity", "1e+51"});
-  refused([](billiard::Settings& s) { s.gravity = Vec2(0, -1e-60); }, {"settings.gravity", "1e-50"});  // |g|^2 underflows
+  refused([&](billiard::Settings& s) { s.gravity = Vector(0, nan); }, {"settings.gravity", "nan"});
+  refused([&](billiard::Settings& s) { s.gravity = Vector(-inf, 0); }, {"settings.gravity", "inf"});
+  refused([](billiard::Settings& s) { s.gravity = Vector(1e51, 0); }, {"settings.gravity", "1e+51"});
+  refused([](billiard::Settings& s) { s.gravity = Vector(0, -1e-60); }, {"settings.gravity", "1e-50"});  // |g|^2 underflows
   refused([](billiard::Settings& s) { s.restitution.normal = 1.5; }, {"settings.restitution.normal", "1.5"});
   refused([](billiard::Settings& s) { s.restitution.normal = -0.1; }, {"settings.restitution.normal", "-0.1"});
   refused([&](billiard::Settings& s) { s.restitution.normal = nan; }, {"settings.restitution.normal", "nan"});
@@ -113,7 +113,7 @@ TEST(Api, BadSettingsFieldsAreRefusedByTheSimulation) {
   // (exchange_velocities is a bool: it has no bad values.) Good settings, however extreme, make a
   // simulation that runs.
   billiard::Settings good;
-  good.gravity = Vec2(1e-50, -1e50);
+  good.gravity = Vector(1e-50, -1e50);
   good.restitution = {0.0, 1.0};
   good.exchange_velocities = true;
   good.contact_duration = 0.0;
@@ -121,11 +121,11 @@ TEST(Api, BadSettingsFieldsAreRefusedByTheSimulation) {
   good.sleep_speed = 0.0;
   good.cell_size = 3.0;
   good.prefetch = billiard::Prefetch::On;
-  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(10, 10)), good);
+  billiard::Simulation sim(billiard::box(Vector(0, 0), Vector(10, 10)), good);
   EXPECT_EQ(sim.gravity(), good.gravity);
   EXPECT_EQ(sim.restitution().normal, 0.0);
   EXPECT_TRUE(sim.exchange_velocities());
-  sim.add_disc(make_disc(Vec2(2, 2), Vec2(1, 0)));
+  sim.add_disc(make_disc(Vector(2, 2), Vector(1, 0)));
   sim.advance(10, 1e-20);
   EXPECT_EQ(sim.validate(), std::nullopt);
 }
@@ -153,68 +153,68 @@ TEST(Api, BadContainersAreRefusedNamingTheFunctionAndTheArgument) {
   expect_refused([&] { billiard::circular_table(nan); }, {"circular_table: radius", "nan"});
   expect_refused([&] { billiard::periodic_box(0, 10); }, {"periodic_box: width", "0"});
   expect_refused([&] { billiard::periodic_box(10, inf); }, {"periodic_box: height", "inf"});
-  expect_refused([&] { billiard::box(Vec2(nan, 0), Vec2(1, 1)); }, {"box: lower", "nan"});
-  expect_refused([&] { billiard::box(Vec2(0, 0), Vec2(1e51, 1)); }, {"box: upper", "1e+51"});
-  expect_refused([&] { billiard::box(Vec2(0, 0), Vec2(1, 0)); }, {"box: upper (1, 0) must exceed lower (0, 0)"});
-  billiard::Points two(2, 2);
+  expect_refused([&] { billiard::box(Vector(nan, 0), Vector(1, 1)); }, {"box: lower", "nan"});
+  expect_refused([&] { billiard::box(Vector(0, 0), Vector(1e51, 1)); }, {"box: upper", "1e+51"});
+  expect_refused([&] { billiard::box(Vector(0, 0), Vector(1, 0)); }, {"box: upper (1, 0) must exceed lower (0, 0)"});
+  billiard::Coordinates two(2, 2);
   two << 0, 0, 1, 1;
   expect_refused([&] { billiard::polygon(two); }, {"polygon: vertices needs at least 3 rows", "2"});
-  billiard::Points triangle(3, 2);
+  billiard::Coordinates triangle(3, 2);
   triangle << 0, 0, 1, 0, 0, inf;
   expect_refused([&] { billiard::polygon(triangle); }, {"polygon: vertex 2", "inf"});
   triangle << 0, 0, 1, 0, 1, 0;
   expect_refused([&] { billiard::polygon(triangle); }, {"polygon: vertices 1 and 2 coincide"});
-  expect_refused([&] { billiard::stadium(Vec2(0, nan), 1, 1); }, {"stadium: centre", "nan"});
-  expect_refused([&] { billiard::stadium(Vec2(0, 0), -1, 1); }, {"stadium: radius", "-1"});
-  expect_refused([&] { billiard::stadium(Vec2(0, 0), 1, 0); }, {"stadium: length", "circular_table"});
-  expect_refused([&] { billiard::sinai_billiard(Vec2(inf, 0), Vec2(1, 1), 0.1); }, {"sinai_billiard: lower", "inf"});
-  expect_refused([&] { billiard::sinai_billiard(Vec2(0, 0), Vec2(1, nan), 0.1); }, {"sinai_billiard: upper", "nan"});
-  expect_refused([&] { billiard::sinai_billiard(Vec2(0, 0), Vec2(4, 4), 2); }, {"sinai_billiard: obstacle_radius", "2"});
-  expect_refused([&] { billiard::mushroom(Vec2(nan, 0), 5, 2, 4); }, {"mushroom: centre", "nan"});
-  expect_refused([&] { billiard::mushroom(Vec2(0, 0), 0, 2, 4); }, {"mushroom: cap_radius", "0"});
-  expect_refused([&] { billiard::mushroom(Vec2(0, 0), 5, 12, 4); }, {"mushroom: stem_width", "got 12"});
-  expect_refused([&] { billiard::mushroom(Vec2(0, 0), 5, 2, -4); }, {"mushroom: stem_height", "-4"});
-  billiard::Points centres(2, 2);
+  expect_refused([&] { billiard::stadium(Vector(0, nan), 1, 1); }, {"stadium: centre", "nan"});
+  expect_refused([&] { billiard::stadium(Vector(0, 0), -1, 1); }, {"stadium: radius", "-1"});
+  expect_refused([&] { billiard::stadium(Vector(0, 0), 1, 0); }, {"stadium: length", "circular_table"});
+  expect_refused([&] { billiard::sinai_billiard(Vector(inf, 0), Vector(1, 1), 0.1); }, {"sinai_billiard: lower", "inf"});
+  expect_refused([&] { billiard::sinai_billiard(Vector(0, 0), Vector(1, nan), 0.1); }, {"sinai_billiard: upper", "nan"});
+  expect_refused([&] { billiard::sinai_billiard(Vector(0, 0), Vector(4, 4), 2); }, {"sinai_billiard: obstacle_radius", "2"});
+  expect_refused([&] { billiard::mushroom(Vector(nan, 0), 5, 2, 4); }, {"mushroom: centre", "nan"});
+  expect_refused([&] { billiard::mushroom(Vector(0, 0), 0, 2, 4); }, {"mushroom: cap_radius", "0"});
+  expect_refused([&] { billiard::mushroom(Vector(0, 0), 5, 12, 4); }, {"mushroom: stem_width", "got 12"});
+  expect_refused([&] { billiard::mushroom(Vector(0, 0), 5, 2, -4); }, {"mushroom: stem_height", "-4"});
+  billiard::Coordinates centres(2, 2);
   centres << 0, 0, 3, 0;
-  expect_refused([&] { billiard::union_of_circles(billiard::Points(0, 2), {}); }, {"union_of_circles: centres"});
+  expect_refused([&] { billiard::union_of_circles(billiard::Coordinates(0, 2), {}); }, {"union_of_circles: centres"});
   expect_refused([&] { billiard::union_of_circles(centres, {1, 2, 3}); }, {"union_of_circles: radii has 3 entries"});
   expect_refused([&] { billiard::union_of_circles(centres, {1, nan}); }, {"union_of_circles: circle 1: radius", "nan"});
   // Every add_ call, leaving the container as it was.
-  billiard::Container box = billiard::box(Vec2(0, 0), Vec2(10, 10));
-  expect_container_refused(box, [&] { box.add_segment(Vec2(nan, 1), Vec2(2, 2)); }, {"add_segment: a", "nan"});
-  expect_container_refused(box, [&] { box.add_segment(Vec2(1, 1), Vec2(2, -inf)); }, {"add_segment: b", "inf"});
-  expect_container_refused(box, [&] { box.add_segment(Vec2(1, 1), Vec2(1, 1)); }, {"add_segment: a and b must differ"});
-  expect_container_refused(box, [&] { box.add_arc(Vec2(5, 1e51), 1, 0, 1); }, {"add_arc: centre", "1e+51"});
-  expect_container_refused(box, [&] { box.add_arc(Vec2(5, 5), 0, 0, 1); }, {"add_arc: radius", "0"});
-  expect_container_refused(box, [&] { box.add_arc(Vec2(5, 5), 1, nan, 1); }, {"add_arc: start_angle", "nan"});
-  expect_container_refused(box, [&] { box.add_arc(Vec2(5, 5), 1, 0, inf); }, {"add_arc: end_angle", "inf"});
-  expect_container_refused(box, [&] { box.add_arc(Vec2(5, 5), 1, 2, 1); }, {"add_arc: end_angle - start_angle", "-1"});
-  expect_container_refused(box, [&] { box.add_obstacle(Vec2(inf, 5), 1); }, {"add_obstacle: centre", "inf"});
-  expect_container_refused(box, [&] { box.add_obstacle(Vec2(5, 5), -1); }, {"add_obstacle: radius", "-1"});
+  billiard::Container box = billiard::box(Vector(0, 0), Vector(10, 10));
+  expect_container_refused(box, [&] { box.add_segment(Vector(nan, 1), Vector(2, 2)); }, {"add_segment: a", "nan"});
+  expect_container_refused(box, [&] { box.add_segment(Vector(1, 1), Vector(2, -inf)); }, {"add_segment: b", "inf"});
+  expect_container_refused(box, [&] { box.add_segment(Vector(1, 1), Vector(1, 1)); }, {"add_segment: a and b must differ"});
+  expect_container_refused(box, [&] { box.add_arc(Vector(5, 1e51), 1, 0, 1); }, {"add_arc: centre", "1e+51"});
+  expect_container_refused(box, [&] { box.add_arc(Vector(5, 5), 0, 0, 1); }, {"add_arc: radius", "0"});
+  expect_container_refused(box, [&] { box.add_arc(Vector(5, 5), 1, nan, 1); }, {"add_arc: start_angle", "nan"});
+  expect_container_refused(box, [&] { box.add_arc(Vector(5, 5), 1, 0, inf); }, {"add_arc: end_angle", "inf"});
+  expect_container_refused(box, [&] { box.add_arc(Vector(5, 5), 1, 2, 1); }, {"add_arc: end_angle - start_angle", "-1"});
+  expect_container_refused(box, [&] { box.add_obstacle(Vector(inf, 5), 1); }, {"add_obstacle: centre", "inf"});
+  expect_container_refused(box, [&] { box.add_obstacle(Vector(5, 5), -1); }, {"add_obstacle: radius", "-1"});
   // Obstacles are outlines: not a table, nor a periodic box, nor a shape with free walls.
   expect_container_refused(box, [&] { box.add_obstacle(billiard::circular_table(1)); },
                            {"add_obstacle: shape must be an outline"});
   expect_container_refused(box, [&] { box.add_obstacle(billiard::periodic_box(1, 1)); },
                            {"add_obstacle: shape must be an outline"});
-  billiard::Container walled = billiard::box(Vec2(4, 4), Vec2(6, 6));
-  walled.add_segment(Vec2(4.5, 4.5), Vec2(5.5, 5.5));
+  billiard::Container walled = billiard::box(Vector(4, 4), Vector(6, 6));
+  walled.add_segment(Vector(4.5, 4.5), Vector(5.5, 5.5));
   expect_container_refused(box, [&] { box.add_obstacle(walled); },
                            {"add_obstacle: shape has walls besides its outline"});
   // Walls inside a periodic box are not supported.
   billiard::Container periodic = billiard::periodic_box(10, 10);
-  expect_container_refused(periodic, [&] { periodic.add_segment(Vec2(1, 1), Vec2(2, 2)); },
+  expect_container_refused(periodic, [&] { periodic.add_segment(Vector(1, 1), Vector(2, 2)); },
                            {"add_segment: walls inside a periodic box"});
-  expect_container_refused(periodic, [&] { periodic.add_arc(Vec2(5, 5), 1, 0, 1); },
+  expect_container_refused(periodic, [&] { periodic.add_arc(Vector(5, 5), 1, 0, 1); },
                            {"add_arc: walls inside a periodic box"});
-  expect_container_refused(periodic, [&] { periodic.add_obstacle(Vec2(5, 5), 1); },
+  expect_container_refused(periodic, [&] { periodic.add_obstacle(Vector(5, 5), 1); },
                            {"add_obstacle: walls inside a periodic box"});
-  expect_container_refused(periodic, [&] { periodic.add_obstacle(billiard::box(Vec2(4, 4), Vec2(6, 6))); },
+  expect_container_refused(periodic, [&] { periodic.add_obstacle(billiard::box(Vector(4, 4), Vector(6, 6))); },
                            {"add_obstacle: walls inside a periodic box"});
   // The containers still work.
   EXPECT_EQ(box.walls().size(), 8u);  // 4 sides + 4 corners
   EXPECT_TRUE(periodic.walls().empty());
   billiard::Simulation sim(box);
-  sim.add_disc(make_disc(Vec2(2, 2), Vec2(1, 0.5)));
+  sim.add_disc(make_disc(Vector(2, 2), Vector(1, 0.5)));
   EXPECT_EQ(sim.advance(10).collisions, 10);
   EXPECT_EQ(sim.validate(), std::nullopt);
 }
@@ -223,19 +223,19 @@ TEST(Api, DiscsOutsideTheContainerOrOverAWallAreRefused) {
   // The container comes first, so a container or a wall can no longer be refused for the discs
   // it would leave outside or cross: the disc is refused instead, by the same rules.
   billiard::Simulation table(billiard::circular_table(2));
-  expect_refused([&] { table.add_disc(make_disc(Vec2(2, 2), Vec2(1, 0))); }, {"disc 0", "outside the table"});
-  billiard::Container walled = billiard::box(Vec2(0, 0), Vec2(10, 10));
-  const int segment = walled.add_segment(Vec2(0, 2), Vec2(5, 2));
+  expect_refused([&] { table.add_disc(make_disc(Vector(2, 2), Vector(1, 0))); }, {"disc 0", "outside the table"});
+  billiard::Container walled = billiard::box(Vector(0, 0), Vector(10, 10));
+  const int segment = walled.add_segment(Vector(0, 2), Vector(5, 2));
   billiard::Simulation sim(walled);
   const std::string over_segment = "overlaps wall " + std::to_string(segment);
-  expect_refused([&] { sim.add_disc(make_disc(Vec2(2, 2), Vec2(1, 0))); }, {"disc 0", over_segment.c_str()});
+  expect_refused([&] { sim.add_disc(make_disc(Vector(2, 2), Vector(1, 0))); }, {"disc 0", over_segment.c_str()});
   EXPECT_EQ(table.size(), 0);
   EXPECT_EQ(sim.size(), 0);
 }
 
 TEST(Api, AddDiscsIsAllOrNothing) {
   billiard::Simulation sim(billiard::circular_table(10));
-  billiard::Points positions(3, 2), velocities(3, 2);
+  billiard::Coordinates positions(3, 2), velocities(3, 2);
   positions << 0, 0, 3, 0, 3.5, 0;  // the third overlaps the second
   velocities.setZero();
   expect_refused([&] { sim.add_discs(positions, velocities, 1.0); }, {"disc 2", "overlaps disc 1"});
@@ -247,16 +247,16 @@ TEST(Api, AddDiscsIsAllOrNothing) {
 
 TEST(Api, PeriodicOverlapThroughTheBoundaryIsRefused) {
   billiard::Simulation sim(billiard::periodic_box(10, 10));
-  sim.add_disc(make_disc(Vec2(0.5, 5), Vec2(0, 0)));
-  expect_refused([&] { sim.add_disc(make_disc(Vec2(9.5, 5), Vec2(0, 0))); }, {"disc 1", "overlaps disc 0"});
-  expect_refused([&] { sim.add_disc(make_disc(Vec2(10, 5), Vec2(0, 0))); }, {"disc 1", "outside"});
+  sim.add_disc(make_disc(Vector(0.5, 5), Vector(0, 0)));
+  expect_refused([&] { sim.add_disc(make_disc(Vector(9.5, 5), Vector(0, 0))); }, {"disc 1", "overlaps disc 0"});
+  expect_refused([&] { sim.add_disc(make_disc(Vector(10, 5), Vector(0, 0))); }, {"disc 1", "outside"});
 }
 
 TEST(Api, SetupIsFixedAfterTheFirstAdvance) {
   billiard::Simulation sim = two_discs();
   sim.advance(1);
-  EXPECT_THROW(sim.add_disc(make_disc(Vec2(8, 2), Vec2(0, 0), 0.5)), std::logic_error);
-  billiard::Points positions(1, 2), velocities(1, 2);
+  EXPECT_THROW(sim.add_disc(make_disc(Vector(8, 2), Vector(0, 0), 0.5)), std::logic_error);
+  billiard::Coordinates positions(1, 2), velocities(1, 2);
   positions << 8, 2;
   velocities << 0, 0;
   EXPECT_THROW(sim.add_discs(positions, velocities, 0.5), std::logic_error);
@@ -280,7 +280,7 @@ TEST(Api, NoDiscsAndOneDisc) {
   EXPECT_EQ(empty.time(), 3.0);
   EXPECT_EQ(r.elapsed, 3.0);
   billiard::Simulation one(billiard::circular_table(5));
-  one.add_disc(make_disc(Vec2(0, 0), Vec2(0, 1)));
+  one.add_disc(make_disc(Vector(0, 0), Vector(0, 1)));
   EXPECT_EQ(one.advance(7).collisions, 7);
   EXPECT_EQ(one.validate(), std::nullopt);
 }
@@ -289,7 +289,7 @@ TEST(Api, AdvanceStopsAtEventsOrDurationWhicheverFirst) {
   // One disc in the table of radius 10 bouncing along a diameter (radius 1, speed 2):
   // collisions at 4.5, 13.5, 22.5, ...
   billiard::Simulation sim(billiard::circular_table(10));
-  sim.add_disc(make_disc(Vec2(0, 0), Vec2(2, 0)));
+  sim.add_disc(make_disc(Vector(0, 0), Vector(2, 0)));
   auto r = sim.advance(100, 10.0);  // duration first: one collision, clock at 10
   EXPECT_EQ(r.collisions, 1);
   EXPECT_DOUBLE_EQ(sim.time(), 10.0);
@@ -306,9 +306,9 @@ TEST(Api, ReplayReproducesTheRunByEventAndAtFixedTimeSteps) {
   // extrapolated over different intervals, so they differ by rounding only).
   std::mt19937_64 rng(41);
   billiard::Settings settings;
-  settings.gravity = Vec2(0, -0.5);
-  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), settings);
-  const auto discs = engine_test::random_discs(rng, 20, 0.5, 1.0, Vec2(0, 0), Vec2(20, 20), [](const Vec2& p, double a) {
+  settings.gravity = Vector(0, -0.5);
+  billiard::Simulation sim(billiard::box(Vector(0, 0), Vector(20, 20)), settings);
+  const auto discs = engine_test::random_discs(rng, 20, 0.5, 1.0, Vector(0, 0), Vector(20, 20), [](const Vector& p, double a) {
     return p.x() >= a && p.x() <= 20 - a && p.y() >= a && p.y() <= 20 - a;
   });
   engine_test::add_all(sim, discs);
@@ -343,7 +343,7 @@ TEST(Api, ReplayReproducesTheRunByEventAndAtFixedTimeSteps) {
 TEST(Api, ParallelDiscsInAPeriodicBoxDoNotHangAdvance) {
   // No collision can ever happen: advance(1) without a duration must return (stuck), not spin.
   billiard::Simulation sim(billiard::periodic_box(10, 10));
-  sim.add_disc(make_disc(Vec2(5, 5), Vec2(1, 0.3)));
+  sim.add_disc(make_disc(Vector(5, 5), Vector(1, 0.3)));
   const auto r = sim.advance(1);
   EXPECT_EQ(r.collisions, 0);
   EXPECT_TRUE(r.stuck);
@@ -358,9 +358,9 @@ TEST(Api, ParallelDiscsInAPeriodicBoxDoNotHangAdvance) {
 TEST(Api, CheckingTheEventDiscsFindsNothingInValidRuns) {
   auto container_of = [](int container) {
     if (container == 0) return billiard::circular_table(30.0);
-    if (container == 1) return billiard::box(Vec2(0, 0), Vec2(50, 50));
+    if (container == 1) return billiard::box(Vector(0, 0), Vector(50, 50));
     if (container == 2) return billiard::periodic_box(50, 50);
-    billiard::Points notched(5, 2);  // with a notch: a corner pointing inwards
+    billiard::Coordinates notched(5, 2);  // with a notch: a corner pointing inwards
     notched << 0, 0, 60, 0, 60, 60, 30, 25, 0, 60;
     return billiard::polygon(notched);
   };
@@ -388,8 +388,8 @@ TEST(Api, WallMomentumGivesTheIdealGasPressure) {
   // A single disc bouncing between x walls of a box [0, 10] (radius 1: free length 8) at speed
   // 2: each hit gives momentum 4, one hit every 4 time units: 1 per unit time. Over 100 time
   // units: 100 (one boundary hit may straddle the end: +-4).
-  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(10, 10)));
-  sim.add_disc(make_disc(Vec2(5, 5), Vec2(2, 0)));
+  billiard::Simulation sim(billiard::box(Vector(0, 0), Vector(10, 10)));
+  sim.add_disc(make_disc(Vector(5, 5), Vector(2, 0)));
   sim.advance(billiard::kAllEvents, 100.0);
   EXPECT_NEAR(sim.totals().wall_momentum, 100.0, 4.0);
   EXPECT_EQ(sim.totals().wall_collisions, 25);
@@ -398,7 +398,7 @@ TEST(Api, WallMomentumGivesTheIdealGasPressure) {
 TEST(Api, MemoryPerDiscIsSmall) {
   const double side = std::sqrt(10000 * M_PI / 0.5);
   billiard::Simulation sim(billiard::periodic_box(side, side));
-  billiard::Points positions(10000, 2), velocities(10000, 2);
+  billiard::Coordinates positions(10000, 2), velocities(10000, 2);
   for (int k = 0; k < 10000; ++k) positions.row(k) << (k % 100 + 0.5) * side / 100, (k / 100 + 0.5) * side / 100;
   std::mt19937_64 rng(42);
   std::normal_distribution<double> normal;

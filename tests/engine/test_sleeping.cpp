@@ -14,7 +14,7 @@
 
 using billiard::EventKind;
 using billiard::kAllEvents;
-using billiard::Vec2;
+using billiard::Vector;
 using engine_test::make_disc;
 
 namespace {
@@ -24,13 +24,13 @@ double total_energy(const billiard::Simulation& sim) { return sim.kinetic_energy
 // The box (0,0)-(40,40) under gravity (0, -1), restitution e.
 billiard::Simulation falling(double restitution) {
   billiard::Settings settings;
-  settings.gravity = Vec2(0, -1);
+  settings.gravity = Vector(0, -1);
   settings.restitution.normal = restitution;
-  return billiard::Simulation(billiard::box(Vec2(0, 0), Vec2(40, 40)), settings);
+  return billiard::Simulation(billiard::box(Vector(0, 0), Vector(40, 40)), settings);
 }
 
 // One disc of radius 1 in that box.
-billiard::Simulation one_disc(const Vec2& position, const Vec2& velocity, double restitution) {
+billiard::Simulation one_disc(const Vector& position, const Vector& velocity, double restitution) {
   billiard::Simulation sim = falling(restitution);
   sim.add_disc(make_disc(position, velocity));
   return sim;
@@ -42,7 +42,7 @@ TEST(Sleeping, DiscAtRestOnAFloorHopsAtTheSlackScale) {
   // Elastic (no sleeping): a disc released at rest touching the floor drops the slack,
   // s = 1e-10 radii, and bounces back up as high: one landing every 2 sqrt(2 s / g) = 2.83e-5,
   // the first after half of that. Before the slack it met the floor again at once, for ever.
-  billiard::Simulation sim = one_disc(Vec2(20, 1), Vec2(0, 0), 1.0);
+  billiard::Simulation sim = one_disc(Vector(20, 1), Vector(0, 0), 1.0);
   const double period = 2 * std::sqrt(2 * billiard::kFixedContactSlack);
   const double duration = 0.01;
   const billiard::AdvanceResult r = sim.advance(kAllEvents, duration);
@@ -58,7 +58,7 @@ TEST(Sleeping, DiscSlidingAlongAFloorReachesTheWall) {
   // Elastic: sliding at speed 1 along the floor from x = 20, the disc reaches the wall x = 40 at
   // x = 39 (less the slack) at t = 19, hopping at the slack scale on the way (it used to stall
   // at t = 0). Tolerance 1e-6: its hops add nothing to its horizontal motion.
-  billiard::Simulation sim = one_disc(Vec2(20, 1), Vec2(1, 0), 1.0);
+  billiard::Simulation sim = one_disc(Vector(20, 1), Vector(1, 0), 1.0);
   sim.set_log_events(true);
   double hit = -1;
   while (hit < 0 && sim.time() < 20) {
@@ -78,7 +78,7 @@ TEST(Sleeping, BouncingDiscComesToRestAndFallsAsleep) {
   // the floor and slower than the sleep speed sqrt(2 g 0.05 a) for 3 v / g, falls asleep: it stops
   // where it is (no higher than the island gap, a tenth of its radius, above the floor) and costs
   // no events from then on. Its energy only ever went down.
-  billiard::Simulation sim = one_disc(Vec2(20, 2), Vec2(0, 0), 0.5);
+  billiard::Simulation sim = one_disc(Vector(20, 2), Vector(0, 0), 0.5);
   sim.set_log_events(true);
   double energy = total_energy(sim);
   for (int step = 0; step < 10; ++step) {
@@ -105,8 +105,8 @@ namespace {
 // 3.5 + 2 t - t^2 / 2 = 3) at speed sqrt(5). Runs to just before that and returns the simulation.
 billiard::Simulation disc_thrown_onto_a_sleeper() {
   billiard::Simulation sim = falling(0.5);
-  sim.add_disc(make_disc(Vec2(10, 1), Vec2(0, 0)));
-  sim.add_disc(make_disc(Vec2(10, 3.5), Vec2(0, 2)));
+  sim.add_disc(make_disc(Vector(10, 1), Vector(0, 0)));
+  sim.add_disc(make_disc(Vector(10, 3.5), Vector(0, 2)));
   sim.set_log_events(true);
   sim.advance(kAllEvents, 4.0);
   return sim;
@@ -119,7 +119,7 @@ TEST(Sleeping, SlowHitBouncesOffASleeperWhichStaysPut) {
   // an immovable body, B bounces straight back up at half its speed, and A has not moved at all.
   billiard::Simulation sim = disc_thrown_onto_a_sleeper();
   ASSERT_EQ(sim.sleeping_discs(), std::vector<int>{0});
-  const Vec2 rest = sim.current_state().positions.row(0).transpose();
+  const Vector rest = sim.current_state().positions.row(0);
   sim.set_sleep_speed(5.0);
   sim.clear_event_log();
   sim.advance(1);
@@ -128,10 +128,10 @@ TEST(Sleeping, SlowHitBouncesOffASleeperWhichStaysPut) {
   EXPECT_EQ(hit.kind, EventKind::DiscDisc);
   EXPECT_NEAR(hit.time, 2 + std::sqrt(5.0), 1e-9);
   const int b = hit.disc == 1 ? 0 : 1;  // (which side the record calls `disc`)
-  const Vec2 velocity_b = b == 0 ? hit.velocity : hit.other_velocity;
+  const Vector velocity_b = b == 0 ? hit.velocity : hit.other_velocity;
   EXPECT_NEAR(velocity_b.y(), 0.5 * std::sqrt(5.0), 1e-9);
   EXPECT_EQ(sim.sleeping_discs(), std::vector<int>{0});
-  const Vec2 after = sim.current_state().positions.row(0).transpose();
+  const Vector after = sim.current_state().positions.row(0);
   EXPECT_EQ(after, rest);
   EXPECT_EQ(sim.validate(), std::nullopt);
 }
@@ -150,8 +150,8 @@ TEST(Sleeping, FastHitWakesTheSleeper) {
   const billiard::EventRecord& hit = sim.event_log()[1];
   EXPECT_EQ(hit.kind, EventKind::DiscDisc);
   EXPECT_NEAR(hit.time, 2 + std::sqrt(5.0), 1e-9);
-  const Vec2 velocity_a = hit.disc == 0 ? hit.velocity : hit.other_velocity;
-  const Vec2 velocity_b = hit.disc == 0 ? hit.other_velocity : hit.velocity;
+  const Vector velocity_a = hit.disc == 0 ? hit.velocity : hit.other_velocity;
+  const Vector velocity_b = hit.disc == 0 ? hit.other_velocity : hit.velocity;
   EXPECT_NEAR(velocity_a.y(), -0.75 * std::sqrt(5.0), 1e-9);
   EXPECT_NEAR(velocity_b.y(), -0.25 * std::sqrt(5.0), 1e-9);
   EXPECT_TRUE(sim.sleeping_discs().empty());
@@ -173,7 +173,7 @@ TEST(Sleeping, SleepSpeedZeroWakesEveryDiscAndRefusesBadValues) {
   EXPECT_EQ(sim.event_log().back().kind, EventKind::Wake);
   EXPECT_EQ(sim.validate(), std::nullopt);
   // Elastic discs do not sleep by default; no gravity, never.
-  billiard::Simulation elastic = one_disc(Vec2(20, 1), Vec2(0, 0), 1.0);
+  billiard::Simulation elastic = one_disc(Vector(20, 1), Vector(0, 0), 1.0);
   elastic.advance(10);
   EXPECT_EQ(elastic.sleep_speed(), 0.0);
   billiard::Settings inelastic;

@@ -17,12 +17,12 @@
 
 using billiard::kAllEvents;
 using billiard::Simulation;
-using billiard::Vec2;
+using billiard::Vector;
 
 namespace {
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-bool same_bits(const Vec2& a, const Vec2& b) { return same_bits(a.x(), b.x()) && same_bits(a.y(), b.y()); }
+bool same_bits(const Vector& a, const Vector& b) { return same_bits(a.x(), b.x()) && same_bits(a.y(), b.y()); }
 
 void expect_same_logs(const std::vector<billiard::EventRecord>& a, const std::vector<billiard::EventRecord>& b) {
   ASSERT_EQ(a.size(), b.size());
@@ -89,7 +89,7 @@ TEST(Snapshot, TableContinuesBitForBit) {
 
 TEST(Snapshot, PeriodicBoxWithGravityContinuesBitForBit) {
   billiard::Settings settings;
-  settings.gravity = Vec2(0.2, -0.3);
+  settings.gravity = Vector(0.2, -0.3);
   Simulation sim(billiard::periodic_box(30, 24), settings);
   sim.add_random_discs(60, 1.0, 1.0, 1.0, 5);
   sim.set_log_events(true);
@@ -100,9 +100,9 @@ TEST(Snapshot, PeriodicBoxWithGravityContinuesBitForBit) {
 
 TEST(Snapshot, GranularBedWithSleepingDiscsContinuesBitForBit) {
   billiard::Settings settings;
-  settings.gravity = Vec2(0, -1);
+  settings.gravity = Vector(0, -1);
   settings.restitution.normal = 0.5;
-  Simulation sim(billiard::box(Vec2(0, 0), Vec2(40, 40)), settings);
+  Simulation sim(billiard::box(Vector(0, 0), Vector(40, 40)), settings);
   sim.add_random_discs(120, 1.0, 1.0, 2.0, 11);
   sim.set_log_events(true);
   // (Its first discs fall asleep near t = 3.2, and wake again; the whole bed sleeps from t = 27.)
@@ -115,16 +115,16 @@ TEST(Snapshot, GranularBedWithSleepingDiscsContinuesBitForBit) {
 TEST(Snapshot, RoughDiscsOfUnequalSizesContinueBitForBit) {
   billiard::Settings settings;
   settings.restitution = billiard::Restitution{0.9, 0.4};
-  billiard::Container table = billiard::sinai_billiard(Vec2(0, 0), Vec2(40, 30), 4);
-  table.add_segment(Vec2(2, 2), Vec2(8, 3));
-  table.add_arc(Vec2(30, 22), 3, 0.5, 2.5);
+  billiard::Container table = billiard::sinai_billiard(Vector(0, 0), Vector(40, 30), 4);
+  table.add_segment(Vector(2, 2), Vector(8, 3));
+  table.add_arc(Vector(30, 22), 3, 0.5, 2.5);
   Simulation sim(table, settings);
   // (With seed 17 the cooled gas ends stuck: a slow disc grazing the inside of the arc, lib/DESIGN.md.)
   std::mt19937_64 rng(18);
-  const auto inside = [&](const Vec2& p, double a) {
+  const auto inside = [&](const Vector& p, double a) {
     return outside(table, p, a, 0.0).empty() && !overlapped_wall(table, p, a, 0.0);
   };
-  const engine_test::RandomDiscs discs = engine_test::random_discs(rng, 50, 0.4, 1.2, Vec2(0, 0), Vec2(40, 30), inside);
+  const engine_test::RandomDiscs discs = engine_test::random_discs(rng, 50, 0.4, 1.2, Vector(0, 0), Vector(40, 30), inside);
   ASSERT_EQ(discs.positions.size(), 50u);
   std::uniform_real_distribution<double> uniform(0.5, 2.0);
   for (std::size_t k = 0; k < discs.positions.size(); ++k) {
@@ -141,11 +141,11 @@ TEST(Snapshot, RoughDiscsOfUnequalSizesContinueBitForBit) {
 TEST(Snapshot, SavedBeforeTheFirstAdvanceTakesMoreDiscs) {
   // Before the first advance a simulation is still being set up: the loaded one refuses the same
   // overlapping disc, takes the same new ones, and then runs the same.
-  Simulation sim(billiard::box(Vec2(0, 0), Vec2(30, 30)));
+  Simulation sim(billiard::box(Vector(0, 0), Vector(30, 30)));
   sim.add_random_discs(20, 1.0, 1.0, 1.0, 2);
   Simulation loaded = Simulation::from_bytes(sim.to_bytes());
-  const Vec2 taken = sim.current_state().positions.row(3).transpose();
-  EXPECT_THROW(loaded.add_disc(engine_test::make_disc(taken, Vec2(0, 0))), std::invalid_argument);
+  const Vector taken = sim.current_state().positions.row(3);
+  EXPECT_THROW(loaded.add_disc(engine_test::make_disc(taken, Vector(0, 0))), std::invalid_argument);
   for (Simulation* s : {&sim, &loaded}) {
     s->add_random_discs(20, 0.5, 2.0, 1.0, 9);
     s->set_log_events(true);
@@ -160,12 +160,12 @@ TEST(Snapshot, TheStuckCountCarriesOver) {
   // instant, counted across advance() calls. Loaded from the state before the call that got
   // stuck (mid-instant, most of the count behind it), a copy must get stuck at the same event.
   billiard::Settings settings;
-  settings.gravity = Vec2(0, -1);
+  settings.gravity = Vector(0, -1);
   settings.restitution = billiard::Restitution{0.8, -1.0};
   settings.contact_duration = 0.0;
   settings.elastic_impact_speed = 0.0;
   settings.sleep_speed = 0.0;
-  Simulation sim(billiard::box(Vec2(0, 0), Vec2(40, 40)), settings);
+  Simulation sim(billiard::box(Vector(0, 0), Vector(40, 40)), settings);
   sim.add_random_discs(200, 1.0, 1.0, 1.0, 7);
   std::string before;
   billiard::AdvanceResult last;
@@ -183,10 +183,10 @@ TEST(Snapshot, TheStuckCountCarriesOver) {
 }
 
 TEST(Snapshot, ContainerRoundTrip) {
-  billiard::Container table = billiard::stadium(Vec2(0, 0), 5, 8);
-  table.add_segment(Vec2(-3, -1), Vec2(3, 1));
-  table.add_obstacle(Vec2(6, 1), 1);
-  table.add_obstacle(billiard::box(Vec2(-6, 1), Vec2(-4, 3)));
+  billiard::Container table = billiard::stadium(Vector(0, 0), 5, 8);
+  table.add_segment(Vector(-3, -1), Vector(3, 1));
+  table.add_obstacle(Vector(6, 1), 1);
+  table.add_obstacle(billiard::box(Vector(-6, 1), Vector(-4, 3)));
   for (const billiard::Container& c : {table, billiard::periodic_box(7, 9), billiard::circular_table(3)}) {
     const billiard::Container back = billiard::Container::from_bytes(c.to_bytes());
     EXPECT_TRUE(engine_test::same_walls(back.walls(), c.walls()));
@@ -203,7 +203,7 @@ TEST(Snapshot, ContainerRoundTrip) {
   }
   // Walls added after the round trip are numbered as in the original (its free walls counted).
   billiard::Container back = billiard::Container::from_bytes(table.to_bytes());
-  EXPECT_EQ(back.add_segment(Vec2(-2, 2), Vec2(2, 2)), table.add_segment(Vec2(-2, 2), Vec2(2, 2)));
+  EXPECT_EQ(back.add_segment(Vector(-2, 2), Vector(2, 2)), table.add_segment(Vector(-2, 2), Vector(2, 2)));
   EXPECT_EQ(back.to_bytes(), table.to_bytes());
 }
 
@@ -223,9 +223,9 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 
 Simulation small_run() {
   billiard::Settings settings;
-  settings.gravity = Vec2(0, -1);
+  settings.gravity = Vector(0, -1);
   settings.restitution.normal = 0.7;
-  Simulation sim(billiard::box(Vec2(0, 0), Vec2(20, 20)), settings);
+  Simulation sim(billiard::box(Vector(0, 0), Vector(20, 20)), settings);
   sim.add_random_discs(30, 1.0, 1.0, 1.0, 4);
   sim.set_log_events(true);
   sim.advance(500);

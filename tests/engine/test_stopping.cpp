@@ -15,7 +15,7 @@
 #include <thread>
 #include <vector>
 
-using billiard::Vec2;
+using billiard::Vector;
 
 namespace {
 
@@ -33,7 +33,7 @@ billiard::Simulation granular_bed() {
   billiard::Settings settings;
   settings.gravity = {0, -1};
   settings.restitution = {0.8, 0.5};
-  billiard::Simulation sim(billiard::box(Vec2(0, 0), Vec2(40, 40)), settings);
+  billiard::Simulation sim(billiard::box(Vector(0, 0), Vector(40, 40)), settings);
   sim.add_random_discs(200, 1.0, 1.0, 1.0, 3);
   sim.set_log_events(true);
   return sim;

@@ -16,7 +16,7 @@ TEST(StressEngine, HundredMillionCollisionsAtTenThousandDiscs) {
   const int n = 10000;
   const double side = std::sqrt(n * M_PI / 0.5);
   billiard::Simulation sim(billiard::periodic_box(side, side));
-  billiard::Points positions(n, 2), velocities(n, 2);
+  billiard::Coordinates positions(n, 2), velocities(n, 2);
   std::mt19937_64 rng(7);
   std::normal_distribution<double> normal;
   for (int k = 0; k < n; ++k) {

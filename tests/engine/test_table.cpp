@@ -12,14 +12,14 @@
 #include <optional>
 #include <random>
 
-using billiard::Vec2;
+using billiard::Vector;
 using engine_test::make_disc;
 
 namespace {
 billiard::Simulation random_table(std::mt19937_64& rng, int n, double table, double radius_lo, double radius_hi) {
   billiard::Simulation sim(billiard::circular_table(table));
-  const auto discs = engine_test::random_discs(rng, n, radius_lo, radius_hi, Vec2(-table, -table), Vec2(table, table),
-                                               [&](const Vec2& p, double a) { return p.norm() <= table - a; });
+  const auto discs = engine_test::random_discs(rng, n, radius_lo, radius_hi, Vector(-table, -table), Vector(table, table),
+                                               [&](const Vector& p, double a) { return p.norm() <= table - a; });
   engine_test::add_all(sim, discs);
   return sim;
 }
@@ -29,7 +29,7 @@ TEST(Table, OneDiscBouncesAcrossTheCentre) {
   // R = 10, a = 1, from the centre at speed 2: the rim (reach 9) at t = 4.5, then a diameter
   // (18) every 9 time units: 4.5, 13.5, 22.5. Exact in binary: compared with EXPECT_DOUBLE_EQ.
   billiard::Simulation sim(billiard::circular_table(10));
-  sim.add_disc(make_disc(Vec2(0, 0), Vec2(2, 0)));
+  sim.add_disc(make_disc(Vector(0, 0), Vector(2, 0)));
   sim.set_log_events(true);
   const auto result = sim.advance(3);
   EXPECT_EQ(result.collisions, 3);
@@ -45,8 +45,8 @@ TEST(Table, TwoDiscsHeadOn) {
   // Radius 1 at x = -5 and 5, speeds +1 and -1: touch at t = 4 (gap 8 at relative speed 2)
   // and exchange velocities; then each reaches the rim (reach 9) from |x| = 1 at t = 4 + 8 = 12.
   billiard::Simulation sim(billiard::circular_table(10));
-  sim.add_disc(make_disc(Vec2(-5, 0), Vec2(1, 0)));
-  sim.add_disc(make_disc(Vec2(5, 0), Vec2(-1, 0)));
+  sim.add_disc(make_disc(Vector(-5, 0), Vector(1, 0)));
+  sim.add_disc(make_disc(Vector(5, 0), Vector(-1, 0)));
   sim.set_log_events(true);
   sim.advance(3);
   const auto& log = sim.event_log();
@@ -60,7 +60,7 @@ TEST(Table, TwoDiscsHeadOn) {
 
 TEST(Table, DiscAtRestNeverCollides) {
   billiard::Simulation sim(billiard::circular_table(5));
-  sim.add_disc(make_disc(Vec2(1, 2), Vec2(0, 0)));
+  sim.add_disc(make_disc(Vector(1, 2), Vector(0, 0)));
   const auto result = sim.advance(10, 7.5);
   EXPECT_EQ(result.collisions, 0);
   EXPECT_FALSE(result.stuck);
@@ -111,14 +111,14 @@ TEST(Table, SameFirstTwentyEventsAsTheCoursePropagate) {
     const int n = count(rng);
     const double a = radius(rng);
     const double table = 10;
-    const auto discs = engine_test::random_discs(rng, n, a, a, Vec2(-table, -table), Vec2(table, table),
-                                                 [&](const Vec2& p, double r) { return p.norm() <= table - r; });
+    const auto discs = engine_test::random_discs(rng, n, a, a, Vector(-table, -table), Vector(table, table),
+                                                 [&](const Vector& p, double r) { return p.norm() <= table - r; });
     billiard::Coordinates coordinates(n, 2);
     billiard::Velocities velocities(n, 2);
     billiard::Simulation sim(billiard::circular_table(table));
     for (int i = 0; i < n; ++i) {
-      coordinates.row(i) = discs.positions[i].transpose();
-      velocities.row(i) = discs.velocities[i].transpose();
+      coordinates.row(i) = discs.positions[i];
+      velocities.row(i) = discs.velocities[i];
       sim.add_disc(make_disc(discs.positions[i], discs.velocities[i], a));
     }
     sim.set_log_events(true);

@@ -117,10 +117,10 @@ inline LibraryStep library_step(const GravityTable& t) {
   LibraryStep s;
   try {
     Settings settings;
-    settings.gravity = Vec2(t.g(0), t.g(1));
+    settings.gravity = Vector(t.g(0), t.g(1));
     Simulation sim(circular_table(t.R), settings);
-    const Points positions = t.c;
-    const Points velocities = t.v;
+    const Coordinates positions = t.c;
+    const Velocities velocities = t.v;
     sim.add_discs(positions, velocities, t.a);
     sim.set_log_events(true);
     const AdvanceResult result = sim.advance(1);

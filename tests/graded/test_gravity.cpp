@@ -341,8 +341,8 @@ GRADED_TEST(Gravity, CircleThatJustBouncedDoesNotHitTheWallAgain, 3, after_due_d
     t.c << scale * std::sin(k.angle), -scale * std::cos(k.angle);
     t.v << k.vx, k.vy;
     ASSERT_LT(t.c.row(0).dot(t.v.row(0)), 0) << "test case error: the circle must move inward";
-    const double expected = billiard::disc_in_circle_time(t.c.row(0).transpose(), t.v.row(0).transpose(),
-                                                          t.g.transpose(), 9);
+    const double expected = billiard::disc_in_circle_time(t.c.row(0), t.v.row(0),
+                                                          t.g, 9);
     ASSERT_GT(expected, 0.1) << "test case error: the reference time must be a whole arc";
     const std::string label = text("a circle at ", row(t.c, 0), " (on the wall) moving inward with ", row(t.v, 0),
                                    ", g = ", vec(t.g));
@@ -479,8 +479,8 @@ GRADED_TEST(Gravity, PairThatJustCollidedDoesNotCollideAgain, 2, after_due_date)
   Table t = make_table(10, 1, 2, 0, -1);
   t.c << -1, 0, 1, 0;
   t.v << -1, 0, 1, 0;
-  const double expected = billiard::disc_in_circle_time(billiard::Vec2(1, 0), billiard::Vec2(1, 0),
-                                                        billiard::Vec2(0, -1), 9);
+  const double expected = billiard::disc_in_circle_time(billiard::Vector(1, 0), billiard::Vector(1, 0),
+                                                        billiard::Vector(0, -1), 9);
   Collision got{};
   if (!checked_step(t, got, "a touching pair flying apart")) return;
   EXPECT_TRUE(got.other == kWall && std::abs(got.time - expected) <= 1e-9)
@@ -509,7 +509,7 @@ GRADED_TEST(Gravity, WallTimesMatchTheQuarticOnRandomArcs, 3, after_due_date) {
     t.g << strength * std::cos(psi), strength * std::sin(psi);
     const Table before = t;
     const double expected =
-        billiard::disc_in_circle_time(t.c.row(0).transpose(), t.v.row(0).transpose(), t.g.transpose(), L);
+        billiard::disc_in_circle_time(t.c.row(0), t.v.row(0), t.g, L);
     const std::string label = text("random arc ", k, ": R = ", R, ", a = ", a, ", start ", row(t.c, 0), ", velocity ",
                                    row(t.v, 0), ", g = ", vec(t.g));
     Collision got{};

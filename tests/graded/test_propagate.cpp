@@ -25,6 +25,7 @@ using billiard::Collision;
 using billiard::Coordinates;
 using billiard::kWall;
 using billiard::Velocities;
+using billiard::Vector;
 using billiard::testing::describe_collision;
 using billiard::testing::explain;
 using billiard::testing::row;
@@ -130,11 +131,11 @@ const char* const kHintRecollision =
 // negative number); at a pair collision, the exchange moved the wrong way (v_i' = v_i +
 // ((v_i - v_j).n) n lands as far beyond v_i as the expected velocity lies before it); else the
 // formula of the event.
-std::string velocity_hint(const Eigen::RowVector2d& before, const Eigen::RowVector2d& expected,
-                          const Eigen::RowVector2d& got, bool at_wall) {
+std::string velocity_hint(const Vector& before, const Vector& expected,
+                          const Vector& got, bool at_wall) {
   const std::string formula = at_wall ? kHintWallReflection : kHintSwap;
   if (!got.allFinite()) return not_finite_hint(formula);
-  const Eigen::RowVector2d wrong_way = 2 * before - expected;
+  const Vector wrong_way = 2 * before - expected;
   if (!at_wall && (got - wrong_way).norm() <= 1e-9 * (1 + before.norm() + expected.norm()) &&
       (expected - before).norm() > 1e-9 * (1 + before.norm())) {
     return "the exchange has the wrong sign: the circle gained ((v_i - v_j).n) n where it should lose it (or the "
@@ -145,8 +146,8 @@ std::string velocity_hint(const Eigen::RowVector2d& before, const Eigen::RowVect
 }
 
 // A circle's velocity after a pair collision, with the hint that follows from it.
-void expect_velocity_after_pair(const Velocities& v, int i, const Eigen::RowVector2d& before,
-                                const Eigen::RowVector2d& expected, const std::string& what) {
+void expect_velocity_after_pair(const Velocities& v, int i, const Vector& before,
+                                const Vector& expected, const std::string& what) {
   expect_row(v, i, expected(0), expected(1), kTol, what, velocity_hint(before, expected, v.row(i), false));
 }
 
@@ -609,8 +610,8 @@ GRADED_TEST(Propagate, CircleOnTheWallMovingOutwardByRoundingReflects, 2, after_
       c(0, 0) = std::nextafter(c(0, 0), 2 * c(0, 0));
       c(0, 1) = std::nextafter(c(0, 1), 2 * c(0, 1));
     }
-    const Eigen::RowVector2d out = c.row(0).normalized();
-    const Eigen::RowVector2d along(-out(1), out(0));
+    const Vector out = c.row(0).normalized();
+    const Vector along(-out(1), out(0));
     Table t{R, a, c, Velocities(1, 2)};
     t.v.row(0) = 0.8 * out + 0.6 * along;  // speed 1, moving outward at an angle
     Collision got{};

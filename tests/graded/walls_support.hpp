@@ -163,10 +163,10 @@ inline WallTable random_wall_table(int k, std::uint64_t salt) {
 // the end points itself, once per point), the circles as discs of radius a, event log on.
 inline Simulation library_simulation(const WallTable& t) {
   Container table = circular_table(t.R);
-  for (const Wall& w : t.walls) table.add_segment(w.a.transpose(), w.b.transpose());
+  for (const Wall& w : t.walls) table.add_segment(w.a, w.b);
   Simulation sim(table);
-  const Points positions = t.c;
-  const Points velocities = t.v;
+  const Coordinates positions = t.c;
+  const Velocities velocities = t.v;
   sim.add_discs(positions, velocities, t.a);
   sim.set_log_events(true);
   return sim;
@@ -184,8 +184,8 @@ inline bool library_event_is(const Simulation& sim, const EventRecord& e, const 
   if (shape.kind == WallKind::Circle) return got.other == kWall;
   const int k = -2 - got.other;
   if (got.other > -2 || k >= static_cast<int>(walls.size())) return false;
-  const Vec2 a = walls[static_cast<std::size_t>(k)].a.transpose();
-  const Vec2 b = walls[static_cast<std::size_t>(k)].b.transpose();
+  const Vector a = walls[static_cast<std::size_t>(k)].a;
+  const Vector b = walls[static_cast<std::size_t>(k)].b;
   if (shape.kind == WallKind::Segment) return shape.a == a && shape.b == b;
   return shape.a == a || shape.a == b;
 }
@@ -196,8 +196,8 @@ inline std::string describe_library_event(const Simulation& sim, const EventReco
   const WallShape& shape = sim.container().walls()[static_cast<std::size_t>(e.wall)];
   if (shape.kind == WallKind::Circle) return text("circle ", e.disc, " with the table's rim (other = kWall)");
   for (std::size_t k = 0; k < walls.size(); ++k) {
-    const Vec2 a = walls[k].a.transpose();
-    const Vec2 b = walls[k].b.transpose();
+    const Vector a = walls[k].a;
+    const Vector b = walls[k].b;
     if (shape.kind == WallKind::Segment && shape.a == a && shape.b == b) {
       return text("circle ", e.disc, " with a face of walls[", k, "] (other = wall_id(", k, ") = ", wall_id(static_cast<int>(k)), ")");
     }

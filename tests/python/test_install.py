@@ -48,8 +48,8 @@ def test_find_package_builds_the_guides_example_outside_the_repository(tmp_path)
     # The guide's fragments compile against the installed headers too, each as the body of a
     # function given what they use (built, not run: they wait for seconds).
     (source / "fragments.cpp").write_text(FRAGMENTS_HEAD + "".join(
-        f"void fragment_{k}(billiard::Simulation& sim, const billiard::Points& positions,\n"
-        f"                  const billiard::Points& velocities) {{\n{block}}}\n"
+        f"void fragment_{k}(billiard::Simulation& sim, const billiard::Coordinates& positions,\n"
+        f"                  const billiard::Velocities& velocities) {{\n{block}}}\n"
         for k, block in enumerate(fragments)) + "int main() {}\n")
     (source / "CMakeLists.txt").write_text(
         project + "add_executable(fragments fragments.cpp)\n"

@@ -13,14 +13,14 @@
 
 namespace {
 
-using billiard::Points;
-using billiard::Vec2;
+using billiard::Coordinates;
+using billiard::Vector;
 using namespace billiard::stepping;
 
-Points rows(std::initializer_list<Vec2> list) {
-  Points p(static_cast<Eigen::Index>(list.size()), 2);
+Coordinates rows(std::initializer_list<Vector> list) {
+  Coordinates p(static_cast<Eigen::Index>(list.size()), 2);
   Eigen::Index i = 0;
-  for (const Vec2& v : list) p.row(i++) = v.transpose();
+  for (const Vector& v : list) p.row(i++) = v;
   return p;
 }
 
@@ -36,8 +36,8 @@ Eigen::VectorXd max_energy_variation(Stepper& stepper, std::int64_t steps) {
 }
 
 TEST(FreeFlight, LeapfrogFollowsTheParabolaToRounding) {
-  const Vec2 g(0.3, -1.0);
-  const Points x0 = rows({{0, 0}, {1, 2}}), v0 = rows({{1, 3}, {-2, 0.5}});
+  const Vector g(0.3, -1.0);
+  const Coordinates x0 = rows({{0, 0}, {1, 2}}), v0 = rows({{1, 3}, {-2, 0.5}});
   Stepper stepper({box({-100, -100}, {100, 100})}, x0, v0, 1e-3, g);
   for (int k = 1; k <= 4; ++k) {
     stepper.step(500);
@@ -46,10 +46,10 @@ TEST(FreeFlight, LeapfrogFollowsTheParabolaToRounding) {
     // Rounding of order 1e-16 of the coordinates (up to about 10) per step, accumulated.
     const double tolerance = 1e-14 * static_cast<double>(stepper.steps());
     for (Eigen::Index i = 0; i < 2; ++i) {
-      const Vec2 x = x0.row(i).transpose() + v0.row(i).transpose() * t + 0.5 * g * t * t;
-      const Vec2 v = v0.row(i).transpose() + g * t;
-      EXPECT_NEAR((stepper.state().positions.row(i).transpose() - x).norm(), 0.0, tolerance) << "particle " << i << " at t = " << t;
-      EXPECT_NEAR((stepper.state().velocities.row(i).transpose() - v).norm(), 0.0, tolerance) << "particle " << i << " at t = " << t;
+      const Vector x = x0.row(i) + v0.row(i) * t + 0.5 * g * t * t;
+      const Vector v = v0.row(i) + g * t;
+      EXPECT_NEAR((stepper.state().positions.row(i) - x).norm(), 0.0, tolerance) << "particle " << i << " at t = " << t;
+      EXPECT_NEAR((stepper.state().velocities.row(i) - v).norm(), 0.0, tolerance) << "particle " << i << " at t = " << t;
     }
   }
   EXPECT_EQ(stepper.total_reflections(), 0);
@@ -58,9 +58,9 @@ TEST(FreeFlight, LeapfrogFollowsTheParabolaToRounding) {
 }
 
 TEST(FreeFlight, EulerDriftsByHalfGSquaredDtSquaredPerStepLeapfrogNot) {
-  const Vec2 g(0, -2.0);
+  const Vector g(0, -2.0);
   const double dt = 1e-2;
-  const Points x0 = rows({{0, 0}}), v0 = rows({{1, 1}});
+  const Coordinates x0 = rows({{0, 0}}), v0 = rows({{1, 1}});
   Stepper euler({box({-100, -100}, {100, 100})}, x0, v0, dt, g, Integrator::Euler);
   Stepper leapfrog({box({-100, -100}, {100, 100})}, x0, v0, dt, g, Integrator::Leapfrog);
   euler.step(400);
@@ -76,7 +76,7 @@ TEST(FlatWall, ReflectedAtTheHandComputedPointWithExactEnergy) {
   // dt = 0.08, v = (1, 0), g = (0, -1). Half kick: v = (1, -0.04); the drift (0.08, -0.0032) leaves
   // at lambda = 0.05 / 0.08 = 0.625, at (1, 0.5 - 0.625 * 0.0032) = (1, 0.498); the rest of the
   // drift, 0.375 of it, with v = (-1, -0.04): end (0.97, 0.4968); second half kick: v = (-1, -0.08).
-  const Vec2 g(0, -1);
+  const Vector g(0, -1);
   Stepper stepper({box({0, 0}, {1, 1})}, rows({{0.95, 0.5}}), rows({{1, 0}}), 0.08, g);
   stepper.step();
   EXPECT_EQ(stepper.state().reflections[0], 1);
@@ -94,15 +94,15 @@ TEST(FlatWall, EnergyChangeOfOneReflectionOnAFloorIsTheFormula) {
   // A reflection at the fraction lambda of a leapfrog drift with velocity u changes the energy by
   // (1 - 2 lambda) dt (u . n)(g . n) (lib/PHYSICS.md); Euler's step by |g|^2 dt^2 / 2 -
   // 2 lambda dt (u . n)(g . n). The floor y = 0 of the box is linear: lambda is exact.
-  const Vec2 g(0, -1), n(0, 1);
+  const Vector g(0, -1), n(0, 1);
   const double dt = 0.1;
-  const Points x = rows({{0.5, 0.05}}), v = rows({{0.3, -1.0}});
+  const Coordinates x = rows({{0.5, 0.05}}), v = rows({{0.3, -1.0}});
   for (const Integrator integrator : {Integrator::Leapfrog, Integrator::Euler}) {
     const bool leapfrog = integrator == Integrator::Leapfrog;
     Stepper stepper({box({0, 0}, {1, 1})}, x, v, dt, g, integrator);
     stepper.step();
     ASSERT_EQ(stepper.state().reflections[0], 1);
-    const Vec2 u = v.row(0).transpose() + (leapfrog ? 0.5 * dt : 0.0) * g;
+    const Vector u = v.row(0) + (leapfrog ? 0.5 * dt : 0.0) * g;
     const double lambda = 0.05 / (-u.y() * dt);
     const double expected = leapfrog ? (1 - 2 * lambda) * dt * u.dot(n) * g.dot(n)
                                      : g.squaredNorm() * dt * dt / 2 - 2 * lambda * dt * u.dot(n) * g.dot(n);
@@ -133,7 +133,7 @@ TEST(Circle, SpeedExactParticlesStayInsideAndReflectionsMatchTheChords) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> uniform(-0.6, 0.6), angle(0, 2 * M_PI);
   const int n = 20;
-  Points x(n, 2), v(n, 2);
+  Coordinates x(n, 2), v(n, 2);
   for (int i = 0; i < n; ++i) {
     x.row(i) << uniform(rng), uniform(rng);
     const double a = angle(rng);
@@ -154,7 +154,7 @@ TEST(Circle, SpeedExactParticlesStayInsideAndReflectionsMatchTheChords) {
   for (int i = 0; i < n; ++i) {
     EXPECT_NEAR(stepper.state().velocities.row(i).norm(), 1.0, 1e-13) << "particle " << i;
     // Distance to the first wall hit along v, then one chord per reflection.
-    const Vec2 p = x.row(i).transpose(), u = v.row(i).transpose();
+    const Vector p = x.row(i), u = v.row(i);
     const double along = p.dot(u), b2 = p.squaredNorm() - along * along;
     const double first = -along + std::sqrt(radius * radius - b2), chord = 2 * std::sqrt(radius * radius - b2);
     const double expected = std::floor((duration - first) / chord) + 1;
@@ -172,12 +172,12 @@ TEST(Circle, EnergyErrorUnderGravityIsFirstOrderInDt) {
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> uniform(-0.35, 0.35);
   std::normal_distribution<double> normal;
-  Points x(n, 2), v(n, 2);
+  Coordinates x(n, 2), v(n, 2);
   for (int i = 0; i < n; ++i) {
     x.row(i) << uniform(rng), uniform(rng);
     v.row(i) << normal(rng), normal(rng);
   }
-  const Vec2 g(0, -1);
+  const Vector g(0, -1);
   const double duration = 10.0;
   double mean[3];
   for (int k = 0; k < 3; ++k) {
@@ -201,8 +201,8 @@ TEST(Ellipse, SpeedConservedAndInside) {
   stepper.step(20000);
   EXPECT_GT(stepper.total_reflections(), 10);
   EXPECT_GT(domain->values(stepper.state().positions).minCoeff(), -1e-6);
-  EXPECT_NEAR(stepper.state().velocities.row(0).norm(), Vec2(0.7, 0.2).norm(), 1e-13);
-  EXPECT_NEAR(stepper.state().velocities.row(1).norm(), Vec2(-0.1, 1.3).norm(), 1e-13);
+  EXPECT_NEAR(stepper.state().velocities.row(0).norm(), Vector(0.7, 0.2).norm(), 1e-13);
+  EXPECT_NEAR(stepper.state().velocities.row(1).norm(), Vector(-0.1, 1.3).norm(), 1e-13);
 }
 
 TEST(Union, CrossesTheInnerArcsAndReflectsAtTheOuterBoundary) {
@@ -240,9 +240,9 @@ TEST(Union, OffAxisParticleIsReflectedOnlyByTheOuterArc) {
   EXPECT_EQ(stepper.state().reflections[0], 1);
   EXPECT_EQ(stepper.state().parts[0], 1);
   // Mirrored about the normal (x - (1, 0)) / 1.5 at the hit: v = (1, 0) - 2 n_x n.
-  const Vec2 n = Vec2(wall - 1, 0.5) / 1.5;
-  const Vec2 expected = Vec2(1, 0) - 2 * n.x() * n;
-  EXPECT_NEAR((stepper.state().velocities.row(0).transpose() - expected).norm(), 0.0, 2e-3);
+  const Vector n = Vector(wall - 1, 0.5) / 1.5;
+  const Vector expected = Vector(1, 0) - 2 * n.x() * n;
+  EXPECT_NEAR((stepper.state().velocities.row(0) - expected).norm(), 0.0, 2e-3);
 }
 
 // Random unions of one to three circles, ellipses and boxes, with and without gravity, leapfrog
@@ -261,7 +261,7 @@ TEST(Fuzz, RandomUnionsKeepParticlesWithinAStepOfTheDomain) {
     Domain domain;
     const int parts = 1 + trial % 3;
     for (int k = 0; k < parts; ++k) {
-      const Vec2 c(2 * u(rng) - 1, 2 * u(rng) - 1);
+      const Vector c(2 * u(rng) - 1, 2 * u(rng) - 1);
       const int kind = (trial / 3 + k) % 3;
       if (kind == 0) {
         domain.push_back(circle(c, size()));
@@ -270,10 +270,10 @@ TEST(Fuzz, RandomUnionsKeepParticlesWithinAStepOfTheDomain) {
         domain.push_back(ellipse(c, {a, b}));
       } else {
         const double a = size(), b = size(), c1 = size(), c2 = size();
-        domain.push_back(box(c - Vec2(a, b), c + Vec2(c1, c2)));
+        domain.push_back(box(c - Vector(a, b), c + Vector(c1, c2)));
       }
     }
-    const auto distance = [&](const Points& p) {  // the largest -omega / |grad| estimate over parts
+    const auto distance = [&](const Coordinates& p) {  // the largest -omega / |grad| estimate over parts
       Eigen::VectorXd best = Eigen::VectorXd::Constant(p.rows(), -std::numeric_limits<double>::infinity());
       for (const auto& part : domain) {
         best = best.cwiseMax(part->values(p).cwiseQuotient(part->gradients(p).rowwise().norm()));
@@ -281,9 +281,9 @@ TEST(Fuzz, RandomUnionsKeepParticlesWithinAStepOfTheDomain) {
       return best;
     };
     const int n = 30;
-    Points x(n, 2), v(n, 2);
+    Coordinates x(n, 2), v(n, 2);
     for (int got = 0; got < n;) {
-      Points p(1, 2);
+      Coordinates p(1, 2);
       p << 4 * u(rng) - 2, 4 * u(rng) - 2;
       if (distance(p)[0] <= 0) continue;
       x.row(got) = p.row(0);
@@ -291,7 +291,7 @@ TEST(Fuzz, RandomUnionsKeepParticlesWithinAStepOfTheDomain) {
     }
     const bool gravity = trial % 2 == 1;
     const double dt = 1e-3 * (1 + 9 * u(rng));
-    Stepper stepper(domain, x, v, dt, gravity ? Vec2(0, -1) : Vec2(0, 0), trial % 4 == 3 ? Integrator::Euler : Integrator::Leapfrog);
+    Stepper stepper(domain, x, v, dt, gravity ? Vector(0, -1) : Vector(0, 0), trial % 4 == 3 ? Integrator::Euler : Integrator::Leapfrog);
     for (int step = 0; step < 1000; ++step) {
       stepper.step();
       ASSERT_TRUE(stepper.state().positions.allFinite()) << "trial " << trial;
@@ -314,7 +314,7 @@ TEST(Fuzz, RandomUnionsKeepParticlesWithinAStepOfTheDomain) {
 
 TEST(Replay, RestartedStepperRepeatsTheRunExactly) {
   Stepper stepper({box({0, 0}, {2, 1}), circle({2, 0.5}, 0.5)}, rows({{0.5, 0.5}, {1.5, 0.2}}), rows({{1, 0.3}, {-0.2, 2}}), 1e-2,
-                  Vec2(0, -1));
+                  Vector(0, -1));
   stepper.step(700);
   Stepper replay = stepper.restarted();
   EXPECT_EQ(replay.steps(), 0);
@@ -348,7 +348,7 @@ void expect_refusal(const std::function<void()>& call, const std::string& names)
 
 TEST(Arguments, RefusedWithTheArgumentNamed) {
   const auto c = circle({0, 0}, 1);
-  const Points x = rows({{0, 0}}), v = rows({{1, 0}});
+  const Coordinates x = rows({{0, 0}}), v = rows({{1, 0}});
   expect_refusal([&] { circle({0, 0}, 0); }, "radius = 0");
   expect_refusal([&] { circle({0, NAN}, 1); }, "centre");
   expect_refusal([&] { ellipse({0, 0}, {1, -2}); }, "semi_axes.y = -2");
@@ -360,7 +360,7 @@ TEST(Arguments, RefusedWithTheArgumentNamed) {
   expect_refusal([&] { Stepper({c}, rows({{1, 0}}), v, 0.1); }, "positions row 0 = (1, 0) is outside");
   expect_refusal([&] { Stepper({c}, x, rows({{1, 0}, {0, 1}}), 0.1); }, "velocities has 2");
   expect_refusal([&] { Stepper({c}, x, rows({{NAN, 0}}), 0.1); }, "velocities row 0");
-  expect_refusal([&] { Stepper({c}, x, v, 0.1, Vec2(0, INFINITY)); }, "gravity");
+  expect_refusal([&] { Stepper({c}, x, v, 0.1, Vector(0, INFINITY)); }, "gravity");
   expect_refusal([&] { Stepper({}, x, v, 0.1); }, "domain");
   expect_refusal([&] { Stepper({nullptr}, x, v, 0.1); }, "domain part 0");
   Stepper stepper({c}, x, v, 0.1);
@@ -378,11 +378,11 @@ struct FailingLevelSet final : LevelSet {
   mutable int calls = 0;
   int fail_at;
   explicit FailingLevelSet(int fail) : fail_at(fail) {}
-  Eigen::VectorXd values(const Points& p) const override {
+  Eigen::VectorXd values(const Coordinates& p) const override {
     if (++calls == fail_at) return Eigen::VectorXd::Zero(p.rows() + 1);
     return Eigen::VectorXd::Constant(p.rows(), 1.0);
   }
-  Points gradients(const Points& p) const override { return Points::Zero(p.rows(), 2); }
+  Coordinates gradients(const Coordinates& p) const override { return Coordinates::Zero(p.rows(), 2); }
 };
 
 TEST(Arguments, LevelSetFailingMidRunLeavesTheStepperUnchanged) {

@@ -4,15 +4,15 @@
 // Each task's file in tasks/ explains its job and the formulas it needs.
 //
 // Units: lengths in table units, times in the units the velocities imply (length / speed).
-// Arrays: `Coordinates` and `Velocities` have n rows, column 0 is x and column 1 is y.
+// Arrays: `Coordinates` and `Velocities` (billiard/vectors.hpp, the engine's too) have n rows,
+// column 0 is x and column 1 is y; one row is a `Vector`.
 // Errors: invalid arguments throw std::invalid_argument whose message names the argument.
 // Numbers must be finite and at most 1e50 in magnitude, radii at least 1e-50 (squares of larger
 // ones overflow).
 #pragma once
 
+#include "billiard/vectors.hpp"
 #include "billiard/wall_hit.hpp"
-
-#include <Eigen/Core>
 
 #include <filesystem>
 #include <random>
@@ -20,8 +20,7 @@
 namespace billiard {
 
 using Rng = std::mt19937_64;
-using Coordinates = Eigen::Matrix<double, Eigen::Dynamic, 2>;  // N rows, columns x and y
-using Velocities = Eigen::Matrix<double, Eigen::Dynamic, 2>;
+
 struct Collision {
   double time;  // time advanced to reach this collision (>= 0)
   int circle;   // the circle that collided (row index)

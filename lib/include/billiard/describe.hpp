@@ -4,7 +4,7 @@
 // Like limits.hpp it belongs to neither layer.
 #pragma once
 
-#include <Eigen/Core>
+#include "billiard/vectors.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -34,8 +34,7 @@ inline std::string number_text(double x) {
 
 namespace detail {
 inline void put(std::ostream& out, double x) { out << number_text(x); }
-inline void put(std::ostream& out, const Eigen::Vector2d& v) { out << '(' << number_text(v.x()) << ", " << number_text(v.y()) << ')'; }
-inline void put(std::ostream& out, const Eigen::RowVector2d& v) { put(out, Eigen::Vector2d(v.transpose())); }
+inline void put(std::ostream& out, const Vector& v) { out << '(' << number_text(v.x()) << ", " << number_text(v.y()) << ')'; }
 template <class Part>
 void put(std::ostream& out, const Part& part) { out << part; }
 }  // namespace detail

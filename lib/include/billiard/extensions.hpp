@@ -11,8 +11,6 @@
 
 namespace billiard {
 
-using Vector = Eigen::RowVector2d;
-
 // A straight wall inside the table: the segment from a to b, both end points included. Circles
 // bounce off either side and off the end points.
 struct Wall {

@@ -89,7 +89,7 @@ void walls(double table_radius, const std::vector<Wall>& walls) {
 }
 
 double distance_to_wall(const Vector& p, const Wall& wall) {
-  return distance_to_segment(p.transpose(), wall.a.transpose(), wall.b.transpose());
+  return distance_to_segment(p, wall.a, wall.b);
 }
 
 void clear_of_walls(double table_radius, double circle_radius, const Coordinates& coordinates,

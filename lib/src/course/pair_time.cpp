@@ -22,8 +22,8 @@ double pair_time(double circle_radius, const Coordinates& coordinates, const Vel
   }
   ++calls;
   if (i == j) return std::numeric_limits<double>::infinity();
-  const Vec2 dr = (coordinates.row(i) - coordinates.row(j)).transpose();
-  const Vec2 dv = (velocities.row(i) - velocities.row(j)).transpose();
+  const Vector dr = (coordinates.row(i) - coordinates.row(j));
+  const Vector dv = (velocities.row(i) - velocities.row(j));
   return disc_disc_time(dr, dv, 2 * circle_radius);
 }
 

@@ -8,7 +8,7 @@
 #pragma once
 
 #include "billiard/engine/settings.hpp"  // Restitution
-#include "billiard/engine/vec2.hpp"
+#include "billiard/engine/plane.hpp"
 
 namespace billiard {
 
@@ -16,7 +16,7 @@ namespace billiard {
 // make an immovable body (a wall). `lever` is the distance from the centre to the contact point
 // (the disc radius; 0 for a point mass).
 struct ContactBody {
-  Vec2 velocity;
+  Vector velocity;
   double spin = 0.0;  // angular velocity, counter-clockwise positive
   double inverse_mass = 0.0;
   double inverse_inertia = 0.0;
@@ -27,13 +27,13 @@ struct ContactBody {
 // vector from i's centre towards j's centre (the contact normal). Updates both bodies' velocities
 // and spins and returns Q, the impulse on i (j receives -Q). If the contact points are not
 // approaching (g.sigma <= 0) nothing happens and Q = 0.
-Vec2 collide(const Vec2& sigma, ContactBody& i, ContactBody& j, const Restitution& restitution);
+Vector collide(const Vector& sigma, ContactBody& i, ContactBody& j, const Restitution& restitution);
 
 // Smooth elastic collision of two discs with masses m_i and m_j (the fast path of the engine):
 // only the normal components change, v_i -= 2 m_j / (m_i + m_j) ((v_i - v_j).sigma) sigma and
 // symmetrically for j. `normal` points from i to j and need not be of unit length (the line of
 // centres r_j - r_i itself is best: see collide.cpp). Returns the impulse on i.
-Vec2 collide_smooth_elastic(const Vec2& normal, Vec2& v_i, double inverse_mass_i, Vec2& v_j,
+Vector collide_smooth_elastic(const Vector& normal, Vector& v_i, double inverse_mass_i, Vector& v_j,
                             double inverse_mass_j);
 
 }  // namespace billiard

@@ -16,7 +16,7 @@ namespace {
 
 using limits::bounded;
 const char* const kBounded = limits::kMustBeBounded;
-bool bounded(const Vec2& v) { return bounded(v.x(), v.y()); }
+bool bounded(const Vector& v) { return bounded(v.x(), v.y()); }
 
 [[noreturn]] void refuse(const std::string& message) { throw std::invalid_argument(message); }
 
@@ -26,13 +26,13 @@ void check_length(const std::string& call, const char* name, double value, const
   if (!limits::in_scale(value)) refuse(describe(call, ": ", name, " ", limits::kMustBeInScale, note, ", got ", value));
 }
 
-void check_point(const std::string& call, const char* name, const Vec2& p) {
+void check_point(const std::string& call, const char* name, const Vector& p) {
   if (!bounded(p)) refuse(describe(call, ": ", name, " ", kBounded, ", got ", p));
 }
 
 // An arc from the user's numbers: centre and radius bounded, angles finite and bounded,
 // 0 < end - start <= 2 pi. `call` names the call (and the circle) in messages.
-WallShape checked_arc(const std::string& call, const Vec2& centre, double radius, double start_angle, double end_angle) {
+WallShape checked_arc(const std::string& call, const Vector& centre, double radius, double start_angle, double end_angle) {
   check_point(call, "centre", centre);
   check_length(call, "radius", radius);
   if (!std::isfinite(start_angle) || std::abs(start_angle) > 1e6) refuse(describe(call, ": start_angle must be finite and at most 1e6 in magnitude (radians), got ", start_angle));
@@ -41,13 +41,13 @@ WallShape checked_arc(const std::string& call, const Vec2& centre, double radius
   if (!(sweep > 0 && sweep <= 2 * M_PI)) {
     refuse(describe(call, ": end_angle - start_angle must be in (0, 2 pi] (the arc runs counter-clockwise from start_angle to end_angle), got ", sweep));
   }
-  WallShape arc{WallKind::Arc, centre, Vec2::Zero(), radius};
+  WallShape arc{WallKind::Arc, centre, Vector::Zero(), radius};
   arc.start_angle = start_angle;
   arc.sweep = std::min(sweep, 2 * M_PI);
   return arc;
 }
 
-WallShape segment(const Vec2& a, const Vec2& b) { return WallShape{WallKind::Segment, a, b, 0.0}; }
+WallShape segment(const Vector& a, const Vector& b) { return WallShape{WallKind::Segment, a, b, 0.0}; }
 
 }  // namespace
 
@@ -60,7 +60,7 @@ Container circular_table(double radius) {
   Container table;
   table.has_table_ = true;
   table.table_radius_ = radius;
-  table.walls_.push_back(WallShape{WallKind::Circle, Vec2::Zero(), Vec2::Zero(), radius});
+  table.walls_.push_back(WallShape{WallKind::Circle, Vector::Zero(), Vector::Zero(), radius});
   return table;
 }
 
@@ -69,41 +69,41 @@ Container periodic_box(double width, double height) {
   check_length("periodic_box", "height", height);
   Container box;
   box.periodic_ = true;
-  box.period_ = Vec2(width, height);
+  box.period_ = Vector(width, height);
   return box;
 }
 
-Container box(const Vec2& lower, const Vec2& upper) {
+Container box(const Vector& lower, const Vector& upper) {
   check_point("box", "lower", lower);
   check_point("box", "upper", upper);
-  const Vec2 size = upper - lower;
+  const Vector size = upper - lower;
   if (!(size.x() >= limits::kSmallest && size.y() >= limits::kSmallest)) {
     refuse("box: upper " + describe(upper) + " must exceed lower " + describe(lower) + " by at least 1e-50 in x and y");
   }
-  Points corners(4, 2);
+  Coordinates corners(4, 2);
   corners << lower.x(), lower.y(), upper.x(), lower.y(), upper.x(), upper.y(), lower.x(), upper.y();
   return polygon(corners);
 }
 
-Container polygon(const Points& vertices) {
+Container polygon(const Coordinates& vertices) {
   const int n = static_cast<int>(vertices.rows());
   if (n < 3) refuse("polygon: vertices needs at least 3 rows, got " + std::to_string(n));
-  for (int k = 0; k < n; ++k) check_point("polygon", ("vertex " + std::to_string(k)).c_str(), vertices.row(k).transpose());
+  for (int k = 0; k < n; ++k) check_point("polygon", ("vertex " + std::to_string(k)).c_str(), vertices.row(k));
   std::vector<WallShape> sides;
   for (int k = 0; k < n; ++k) {
-    const Vec2 p = vertices.row(k).transpose();
-    const Vec2 q = vertices.row((k + 1) % n).transpose();
+    const Vector p = vertices.row(k);
+    const Vector q = vertices.row((k + 1) % n);
     if (!((p - q).squaredNorm() > 0)) refuse("polygon: vertices " + std::to_string(k) + " and " + std::to_string((k + 1) % n) + " coincide at " + describe(p));
     sides.push_back(segment(p, q));
   }
   return Container::of_outline(std::move(sides));
 }
 
-Container stadium(const Vec2& centre, double radius, double length) {
+Container stadium(const Vector& centre, double radius, double length) {
   check_point("stadium", "centre", centre);
   check_length("stadium", "radius", radius);
   check_length("stadium", "length", length, " (0 is a circle: use circular_table)");
-  const Vec2 half(0.5 * length, 0.0);
+  const Vector half(0.5 * length, 0.0);
   if (!bounded(centre + half) || !bounded(centre - half)) {
     refuse(describe("stadium: the half circles' centres, centre ", centre, " +- length / 2, must be at most 1e50 in magnitude, got length ", length));
   }
@@ -116,10 +116,10 @@ Container stadium(const Vec2& centre, double radius, double length) {
   return Container::of_outline({right, top, left, bottom});
 }
 
-Container sinai_billiard(const Vec2& lower, const Vec2& upper, double obstacle_radius) {
+Container sinai_billiard(const Vector& lower, const Vector& upper, double obstacle_radius) {
   check_point("sinai_billiard", "lower", lower);
   check_point("sinai_billiard", "upper", upper);
-  const Vec2 size = upper - lower;
+  const Vector size = upper - lower;
   if (!(size.x() >= limits::kSmallest && size.y() >= limits::kSmallest)) {
     refuse("sinai_billiard: upper " + describe(upper) + " must exceed lower " + describe(lower) + " by at least 1e-50 in x and y");
   }
@@ -132,15 +132,15 @@ Container sinai_billiard(const Vec2& lower, const Vec2& upper, double obstacle_r
   return sinai;
 }
 
-Container mushroom(const Vec2& centre, double cap_radius, double stem_width, double stem_height) {
+Container mushroom(const Vector& centre, double cap_radius, double stem_width, double stem_height) {
   check_point("mushroom", "centre", centre);
   check_length("mushroom", "cap_radius", cap_radius);
   if (!(stem_width > 0) || !(stem_width < 2 * cap_radius)) refuse(describe("mushroom: stem_width must be positive and below 2 cap_radius = ", 2 * cap_radius, ", got ", stem_width));
   check_length("mushroom", "stem_height", stem_height);
   const WallShape cap = checked_arc("mushroom", centre, cap_radius, 0.0, M_PI);
   const double w = 0.5 * stem_width;
-  const Vec2 stem_top_right = centre + Vec2(w, 0), stem_top_left = centre + Vec2(-w, 0);
-  const Vec2 stem_bottom_right = centre + Vec2(w, -stem_height), stem_bottom_left = centre + Vec2(-w, -stem_height);
+  const Vector stem_top_right = centre + Vector(w, 0), stem_top_left = centre + Vector(-w, 0);
+  const Vector stem_bottom_right = centre + Vector(w, -stem_height), stem_bottom_left = centre + Vector(-w, -stem_height);
   if (!((stem_top_right - stem_top_left).squaredNorm() > 0 && (stem_top_right - stem_bottom_right).squaredNorm() > 0 &&
         (arc_point(cap, 0.0) - stem_top_right).squaredNorm() > 0 && (arc_point(cap, M_PI) - stem_top_left).squaredNorm() > 0)) {
     refuse(describe("mushroom: the stem ", stem_width, " x ", stem_height, " and the cap are too small for the centre ", describe(centre)));
@@ -150,7 +150,7 @@ Container mushroom(const Vec2& centre, double cap_radius, double stem_width, dou
                                 segment(stem_bottom_left, stem_bottom_right)});
 }
 
-Container union_of_circles(const Points& centres, const std::vector<double>& radii) {
+Container union_of_circles(const Coordinates& centres, const std::vector<double>& radii) {
   const int n = static_cast<int>(centres.rows());
   if (n < 1) refuse("union_of_circles: centres needs at least 1 row, got 0");
   if (static_cast<int>(radii.size()) != n) {
@@ -158,7 +158,7 @@ Container union_of_circles(const Points& centres, const std::vector<double>& rad
   }
   std::vector<WallShape> circles;
   for (int i = 0; i < n; ++i) {
-    circles.push_back(checked_arc("union_of_circles: circle " + std::to_string(i), centres.row(i).transpose(), radii[i], 0.0, 2 * M_PI));
+    circles.push_back(checked_arc("union_of_circles: circle " + std::to_string(i), centres.row(i), radii[i], 0.0, 2 * M_PI));
   }
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < i; ++j) {
@@ -177,7 +177,7 @@ Container union_of_circles(const Points& centres, const std::vector<double>& rad
     for (int j = 0; j < n && !buried; ++j) {
       if (j == i) continue;
       const WallShape& cj = circles[j];
-      const Vec2 d = cj.a - ci.a;
+      const Vector d = cj.a - ci.a;
       const double distance = d.norm();
       if (distance + ci.radius <= cj.radius) buried = true;                  // inside circle j
       if (buried || distance >= ci.radius + cj.radius || distance + cj.radius <= ci.radius) continue;  // apart, or j inside
@@ -243,7 +243,7 @@ void Container::add_outline(Outline outline, double merge) {
 
 // A point wall at p, unless one is already within `merge` of it (end points shared by two
 // segments or arcs are one wall).
-static void add_point_wall(std::vector<WallShape>& walls, const Vec2& p, double merge) {
+static void add_point_wall(std::vector<WallShape>& walls, const Vector& p, double merge) {
   for (const WallShape& w : walls) {
     if (w.kind == WallKind::Point && (w.a - p).norm() <= merge) return;
   }
@@ -262,7 +262,7 @@ void Container::add_wall_with_ends(const WallShape& wall, double merge) {
   }
 }
 
-int Container::add_segment(const Vec2& a, const Vec2& b) {
+int Container::add_segment(const Vector& a, const Vector& b) {
   check_point("add_segment", "a", a);
   check_point("add_segment", "b", b);
   // (So close that the squared length underflows, the segment has no direction.)
@@ -274,7 +274,7 @@ int Container::add_segment(const Vec2& a, const Vec2& b) {
   return index;
 }
 
-int Container::add_arc(const Vec2& centre, double radius, double start_angle, double end_angle) {
+int Container::add_arc(const Vector& centre, double radius, double start_angle, double end_angle) {
   const WallShape arc = checked_arc("add_arc", centre, radius, start_angle, end_angle);
   refuse_in_periodic_box("add_arc");
   const int index = static_cast<int>(walls_.size());
@@ -283,7 +283,7 @@ int Container::add_arc(const Vec2& centre, double radius, double start_angle, do
   return index;
 }
 
-void Container::add_obstacle(const Vec2& centre, double radius) {
+void Container::add_obstacle(const Vector& centre, double radius) {
   const WallShape circle = checked_arc("add_obstacle", centre, radius, 0.0, 2 * M_PI);
   refuse_in_periodic_box("add_obstacle");
   add_outline(Outline{{circle}, true});
@@ -308,13 +308,13 @@ void Container::add_obstacle(const Container& shape) {
 // Geometry
 // ---------------------------------------------------------------------------------------------
 
-Vec2 wrap_into_period(Vec2 p, const Vec2& period) {
+Vector wrap_into_period(Vector p, const Vector& period) {
   if (period.x() > 0) p.x() -= period.x() * std::floor(p.x() / period.x());
   if (period.y() > 0) p.y() -= period.y() * std::floor(p.y() / period.y());
   return p;
 }
 
-double wall_clearance(const WallShape& wall, const Vec2& p, double radius) {
+double wall_clearance(const WallShape& wall, const Vector& p, double radius) {
   if (wall.kind == WallKind::Circle) return wall.radius - (p - wall.a).norm() - radius;
   return (closest_point(wall, p) - p).norm() - radius;
 }
@@ -322,7 +322,7 @@ double wall_clearance(const WallShape& wall, const Vec2& p, double radius) {
 namespace {
 // Even-odd rule: p lies inside an odd number of the outlines that are not holes (true when there
 // are none), and inside no hole.
-bool inside_outlines(const std::vector<Outline>& outlines, const Vec2& p) {
+bool inside_outlines(const std::vector<Outline>& outlines, const Vector& p) {
   int inside = 0, enclosing = 0;
   for (const Outline& outline : outlines) {
     const bool in = inside_pieces(outline.pieces, p);
@@ -336,9 +336,9 @@ bool inside_outlines(const std::vector<Outline>& outlines, const Vec2& p) {
 }
 }  // namespace
 
-Outside where_outside(const Container& container, const Vec2& p, double radius, double slack) {
+Outside where_outside(const Container& container, const Vector& p, double radius, double slack) {
   if (container.has_table() && p.norm() > container.table_radius() - radius + slack) return Outside::Table;
-  const Vec2& period = container.period();
+  const Vector& period = container.period();
   if (container.periodic() &&
       (p.x() < -slack || p.x() >= period.x() + slack || p.y() < -slack || p.y() >= period.y() + slack)) {
     return Outside::PeriodicBox;
@@ -347,8 +347,8 @@ Outside where_outside(const Container& container, const Vec2& p, double radius, 
   return Outside::No;
 }
 
-std::string outside(const Container& container, const Vec2& p, double radius, double slack) {
-  const Vec2& period = container.period();
+std::string outside(const Container& container, const Vector& p, double radius, double slack) {
+  const Vector& period = container.period();
   switch (where_outside(container, p, radius, slack)) {
     case Outside::No:
       return "";
@@ -363,7 +363,7 @@ std::string outside(const Container& container, const Vec2& p, double radius, do
   return describe("at (", p.x(), ", ", p.y(), ") is outside the walls");
 }
 
-std::optional<WallOverlap> overlapped_wall(const Container& container, const Vec2& p, double radius, double slack,
+std::optional<WallOverlap> overlapped_wall(const Container& container, const Vector& p, double radius, double slack,
                                            const int* indices, int count) {
   const std::vector<WallShape>& walls = container.walls();
   const int n = indices ? count : static_cast<int>(walls.size());
@@ -376,26 +376,26 @@ std::optional<WallOverlap> overlapped_wall(const Container& container, const Vec
   return std::nullopt;
 }
 
-void bounds(const Container& container, Vec2& lower, Vec2& upper) {
+void bounds(const Container& container, Vector& lower, Vector& upper) {
   if (container.periodic()) {
-    lower = Vec2::Zero();
+    lower = Vector::Zero();
     upper = container.period();
     return;
   }
   // Centres lie inside the table and inside the outlines (an outline inside another is an
   // obstacle): the table's box cut down to the box around all the outlines.
-  lower = Vec2::Constant(-kNever);
-  upper = Vec2::Constant(kNever);
+  lower = Vector::Constant(-kNever);
+  upper = Vector::Constant(kNever);
   if (container.has_table()) {
-    lower = Vec2::Constant(-container.table_radius());
-    upper = Vec2::Constant(container.table_radius());
+    lower = Vector::Constant(-container.table_radius());
+    upper = Vector::Constant(container.table_radius());
   }
   if (container.has_table() && container.outlines().empty()) return;
-  Vec2 outline_lower = Vec2::Constant(kNever), outline_upper = Vec2::Constant(-kNever);
+  Vector outline_lower = Vector::Constant(kNever), outline_upper = Vector::Constant(-kNever);
   for (const Outline& outline : container.outlines()) {
     if (outline.hole) continue;
     for (const WallShape& piece : outline.pieces) {
-      Vec2 lo = piece.a.cwiseMin(piece.b), hi = piece.a.cwiseMax(piece.b);
+      Vector lo = piece.a.cwiseMin(piece.b), hi = piece.a.cwiseMax(piece.b);
       if (piece.kind == WallKind::Arc) arc_bounds(piece, lo, hi);
       outline_lower = outline_lower.cwiseMin(lo);
       outline_upper = outline_upper.cwiseMax(hi);

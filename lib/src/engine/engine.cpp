@@ -60,9 +60,9 @@ void Engine::unlink(int i) { remove_disc(grid, cell_of_disc(hot[i]), i); }
 void Engine::prepare() {
   const int n = static_cast<int>(hot.size());
   // Region covered by the cells: every place a centre can reach.
-  Vec2 lower, upper;
+  Vector lower, upper;
   bounds(container, lower, upper);
-  const Vec2 extent = upper - lower;
+  const Vector extent = upper - lower;
   // Cell size. At least one largest diameter, so that contacts are between neighbouring cells.
   // Automatic choice: about one disc per cell on average (side 1/sqrt(number density)), which
   // at low density makes cells larger than a diameter and crossings rarer; measured with
@@ -115,7 +115,7 @@ void Engine::prepare() {
   setup_hash.cells.clear();  // no more discs can be added: free the setup hash
 }
 
-double Engine::wall_time(const WallShape& wall, const Vec2& r, const Vec2& v, double radius) const {
+double Engine::wall_time(const WallShape& wall, const Vector& r, const Vector& v, double radius) const {
   switch (wall.kind) {
     case WallKind::Segment:
       return disc_segment_time(r, v, gravity, wall.a, wall.b, fixed_reach(radius));
@@ -139,8 +139,8 @@ namespace {
 // kSleepers: some discs may be asleep: fixed while disc i falls, so that i meets one as a point
 // at the contact distance (less the fixed contact slack, see fixed_reach).
 template <bool kGravity, bool kSleepers>
-inline void test_pair(const BigVector<HotDisc>& hot, const Vec2& gravity, int i, int j, const Vec2& shift,
-                      const Vec2& r, const Vec2& v, double radius, double t0, Scheduled& s) {
+inline void test_pair(const BigVector<HotDisc>& hot, const Vector& gravity, int i, int j, const Vector& shift,
+                      const Vector& r, const Vector& v, double radius, double t0, Scheduled& s) {
   const HotDisc& o = hot[j];
   if (kSleepers && Engine::asleep(o)) {
     const double reach = radius * (1 - kFixedContactSlack) + o.radius;
@@ -153,14 +153,14 @@ inline void test_pair(const BigVector<HotDisc>& hot, const Vec2& gravity, int i,
     return;
   }
   const double dt = t0 - o.time;
-  Vec2 rj = o.position + dt * o.velocity + shift;
-  Vec2 vj = o.velocity;
+  Vector rj = o.position + dt * o.velocity + shift;
+  Vector vj = o.velocity;
   if (kGravity) {
     rj += (0.5 * dt * dt) * gravity;
     vj += dt * gravity;
   }
-  const Vec2 dr = r - rj;
-  const Vec2 dv = v - vj;
+  const Vector dr = r - rj;
+  const Vector dv = v - vj;
   const double b = dr.dot(dv);
   if (b >= 0 || j == i) return;  // flying apart (or grazing), or i itself
   const double contact = radius + o.radius;
@@ -184,8 +184,8 @@ inline void test_pair(const BigVector<HotDisc>& hot, const Vec2& gravity, int i,
 
 // Pair tests of disc i against the discs of cell c, seen through the image shift `shift`.
 template <bool kGravity, bool kSleepers>
-inline void scan_discs(const BigVector<HotDisc>& hot, const Grid& grid, const Vec2& gravity, int i, int c,
-                       const Vec2& shift, const Vec2& r, const Vec2& v, double radius, double t0, Scheduled& s) {
+inline void scan_discs(const BigVector<HotDisc>& hot, const Grid& grid, const Vector& gravity, int i, int c,
+                       const Vector& shift, const Vector& r, const Vector& v, double radius, double t0, Scheduled& s) {
   const int* items = cell_discs(grid, c);
   const int count = cell_disc_count(grid, c);
   for (int k = 0; k < count; ++k) test_pair<kGravity, kSleepers>(hot, gravity, i, items[k], shift, r, v, radius, t0, s);
@@ -193,9 +193,9 @@ inline void scan_discs(const BigVector<HotDisc>& hot, const Grid& grid, const Ve
 
 // The same pair tests against a list of discs (no periodic shift).
 template <bool kGravity, bool kSleepers>
-inline void scan_list(const BigVector<HotDisc>& hot, const Vec2& gravity, int i, const int* list, int count,
-                      const Vec2& r, const Vec2& v, double radius, double t0, Scheduled& s) {
-  const Vec2 none = Vec2::Zero();
+inline void scan_list(const BigVector<HotDisc>& hot, const Vector& gravity, int i, const int* list, int count,
+                      const Vector& r, const Vector& v, double radius, double t0, Scheduled& s) {
+  const Vector none = Vector::Zero();
   for (int k = 0; k < count; ++k) test_pair<kGravity, kSleepers>(hot, gravity, i, list[k], none, r, v, radius, t0, s);
 }
 
@@ -203,8 +203,8 @@ inline void scan_list(const BigVector<HotDisc>& hot, const Vec2& gravity, int i,
 
 // Pair tests of disc i (at r, v, time now) against the discs of cell (cx, cy), which may lie
 // outside the grid: skipped, or wrapped with the image shift when periodic.
-void Engine::scan_cell(int i, int cx, int cy, const Vec2& r, const Vec2& v, Scheduled& s) const {
-  Vec2 shift = Vec2::Zero();
+void Engine::scan_cell(int i, int cx, int cy, const Vector& r, const Vector& v, Scheduled& s) const {
+  Vector shift = Vector::Zero();
   if (cx < 0 || cx >= grid.nx) {
     if (!grid.periodic) return;
     shift.x() = cx < 0 ? -container.period().x() : container.period().x();
@@ -226,7 +226,7 @@ void Engine::scan_cell(int i, int cx, int cy, const Vec2& r, const Vec2& v, Sche
 }
 
 // Pair tests of disc i (at r, v, time now) against a gathered list of discs (no image shifts).
-void Engine::scan_listed(int i, const int* list, int m, const Vec2& r, const Vec2& v, Scheduled& s) const {
+void Engine::scan_listed(int i, const int* list, int m, const Vector& r, const Vector& v, Scheduled& s) const {
   if (sleeping > 0) {
     scan_list<true, true>(hot, gravity, i, list, m, r, v, hot[i].radius, now, s);
   } else if (has_gravity) {
@@ -236,7 +236,7 @@ void Engine::scan_listed(int i, const int* list, int m, const Vec2& r, const Vec
   }
 }
 
-void Engine::scan_walls(int cell, const Vec2& r, const Vec2& v, double radius, Scheduled& s) const {
+void Engine::scan_walls(int cell, const Vector& r, const Vector& v, double radius, Scheduled& s) const {
   if (!cell_has_walls(grid, cell)) return;  // (most cells: no read of wall_ranges)
   for (int k = cell_walls_begin(grid, cell), end = cell_walls_end(grid, cell); k < end; ++k) {
     const int w = grid.wall_items[k];
@@ -252,8 +252,8 @@ void Engine::scan_walls(int cell, const Vec2& r, const Vec2& v, double radius, S
 void Engine::set_crossing(int i) {
   const HotDisc& d = hot[i];
   // Cell faces (the outer faces of a non-periodic grid at infinity, see cell_bounds).
-  Vec2 lo(grid.lower.x() + d.cx * grid.cell.x(), grid.lower.y() + d.cy * grid.cell.y());
-  Vec2 hi = lo + grid.cell;
+  Vector lo(grid.lower.x() + d.cx * grid.cell.x(), grid.lower.y() + d.cy * grid.cell.y());
+  Vector hi = lo + grid.cell;
   if (d.cx == grid.nx - 1) hi.x() = grid.periodic ? grid.lower.x() + grid.extent.x() : kNever;
   if (d.cy == grid.ny - 1) hi.y() = grid.periodic ? grid.lower.y() + grid.extent.y() : kNever;
   if (!grid.periodic) {
@@ -422,8 +422,8 @@ void Engine::predict_gathered(int i, const int* list, int m) {
     if (prepared) schedule(i);
     return;
   }
-  const Vec2 r = d.position;
-  const Vec2 v = d.velocity;
+  const Vector r = d.position;
+  const Vector v = d.velocity;
   if (m >= 0) {
     scan_listed(i, list, m, r, v, s);
   } else {
@@ -462,8 +462,8 @@ void Engine::cross(int i) {
     return;
   }
   // Only the row of cells that just became adjacent is new.
-  const Vec2 r = d.position;
-  const Vec2 v = d.velocity;
+  const Vector r = d.position;
+  const Vector v = d.velocity;
   // Its centre cell and the step along it; inside the grid (almost always), its three records
   // are read directly, else cell by cell with the bounds checks and periodic images.
   const int rx = cx + step_x(face), ry = cy + step_y(face);
@@ -489,15 +489,15 @@ void Engine::collide_pair(int i, int j) {
   HotDisc& b = hot[j];
   advance_disc(a, now);
   advance_disc(b, now);
-  const Vec2 dr = minimum_image(container, b.position - a.position);  // from i to j
+  const Vector dr = minimum_image(container, b.position - a.position);  // from i to j
   const double speed_i = a.velocity.norm(), speed_j = b.velocity.norm();
-  Vec2 q;
+  Vector q;
   if (smooth_elastic) {
     q = collide_smooth_elastic(dr, a.velocity, a.inverse_mass, b.velocity, b.inverse_mass);
   } else if (exchange_velocities && !asleep(b) && (a.velocity - b.velocity).dot(dr) > 0) {
     // The whole relative velocity is reversed (Settings::exchange_velocities); equal
     // masses swap their velocities exactly, so that no rounding enters.
-    const Vec2 g = a.velocity - b.velocity;
+    const Vector g = a.velocity - b.velocity;
     if (a.inverse_mass == b.inverse_mass) {
       std::swap(a.velocity, b.velocity);
     } else {
@@ -509,7 +509,7 @@ void Engine::collide_pair(int i, int j) {
   } else {
     ColdDisc& ca = cold[i];
     ColdDisc& cb = cold[j];
-    const Vec2 sigma = dr.normalized();
+    const Vector sigma = dr.normalized();
     ContactBody bi{a.velocity, ca.spin, a.inverse_mass, ca.inverse_inertia, a.radius};
     ContactBody bj{b.velocity, cb.spin, b.inverse_mass, asleep(b) ? 0.0 : cb.inverse_inertia, b.radius};
     const double approach = (a.velocity - b.velocity).dot(sigma);
@@ -541,7 +541,7 @@ void Engine::collide_wall(int i, int w) {
   advance_disc(d, now);
   const WallShape& wall = container.walls()[w];
   // Contact normal from the disc centre towards the wall.
-  const Vec2 normal = wall.kind == WallKind::Circle ? Vec2(d.position - wall.a) : Vec2(closest_point(wall, d.position) - d.position);
+  const Vector normal = wall.kind == WallKind::Circle ? Vector(d.position - wall.a) : Vector(closest_point(wall, d.position) - d.position);
   // A disc found a rounding error into the wall is put back on it. Under gravity a disc resting
   // there could otherwise never get clear: each collision would find it inside again, moving in.
   if (has_gravity) {
@@ -555,16 +555,16 @@ void Engine::collide_wall(int i, int w) {
   }
   ColdDisc& c = cold[i];
   const double speed_before = d.velocity.norm();
-  Vec2 q;
+  Vector q;
   if (mirror_walls) {
     // Mirror reflection v' = v - 2 (v.n) n / (n.n), unnormalised n as in collide_smooth_elastic.
     const double vn = d.velocity.dot(normal);
-    q = vn > 0 ? Vec2((-2 * vn * c.mass / normal.squaredNorm()) * normal) : Vec2::Zero();
+    q = vn > 0 ? Vector((-2 * vn * c.mass / normal.squaredNorm()) * normal) : Vector::Zero();
     d.velocity += d.inverse_mass * q;
   } else {
-    const Vec2 sigma = normal.normalized();
+    const Vector sigma = normal.normalized();
     ContactBody body{d.velocity, c.spin, d.inverse_mass, c.inverse_inertia, d.radius};
-    ContactBody fixed{Vec2::Zero(), 0.0, 0.0, 0.0, 0.0};
+    ContactBody fixed{Vector::Zero(), 0.0, 0.0, 0.0, 0.0};
     q = collide(sigma, body, fixed, restitution_of(d.velocity.dot(sigma), c.last_collision, -kNever));
     d.velocity = body.velocity;
     c.spin = body.spin;
@@ -862,8 +862,8 @@ State Engine::state_now() const {
     HotDisc d = hot[i];
     advance_disc(d, now);
     const LabDisc lab = lab_frame(d, now);
-    state.positions.row(i) = lab.position.transpose();
-    state.velocities.row(i) = lab.velocity.transpose();
+    state.positions.row(i) = lab.position;
+    state.velocities.row(i) = lab.velocity;
     state.spins[i] = cold[i].spin;
   }
   return state;
@@ -874,7 +874,7 @@ Engine::LabDisc Engine::lab_frame(const HotDisc& d, double t, std::array<std::in
   if (!container.periodic()) return lab;
   const double time = epoch + t;
   lab.velocity += time * fall;
-  const Vec2& period = container.period();
+  const Vector& period = container.period();
   for (int k = 0; k < 2; ++k) {
     // The fall g t^2 / 2 as whole periods and a rest within one: the wrapped position keeps its
     // precision however far the gas has fallen (the rest is the same for every disc).
@@ -915,14 +915,14 @@ Images Engine::images_now() const {
 // (validate() checks each pair once, from its lower index), or null: the positions needed are
 // computed and every neighbour is checked (the check of the discs an event changed, O(1) per
 // event).
-std::string Engine::disc_problem(int i, double tolerance, const Vec2* positions) const {
-  const auto at = [&](int j) -> Vec2 {
+std::string Engine::disc_problem(int i, double tolerance, const Vector* positions) const {
+  const auto at = [&](int j) -> Vector {
     if (positions) return positions[j];
     HotDisc moved = hot[j];
     advance_disc(moved, now);
     return moved.position;
   };
-  const Vec2 ri = at(i);
+  const Vector ri = at(i);
   const HotDisc& d = hot[i];
   const int cell_i = cell_of_disc(d);
   const double slack = tolerance * d.radius;
@@ -937,7 +937,7 @@ std::string Engine::disc_problem(int i, double tolerance, const Vec2* positions)
                                                              cell_walls_end(grid, cell_i) - first_wall);
   if (on_wall) return wall_overlap_message(who, ri, on_wall->wall, on_wall->clearance, d.radius);
   // In its cell (up to rounding).
-  Vec2 lo, hi;
+  Vector lo, hi;
   cell_bounds(grid, cell_i, lo, hi);
   const double cell_slack = 1e-9 * grid.cell.maxCoeff();
   if ((ri.array() < lo.array() - cell_slack).any() || (ri.array() > hi.array() + cell_slack).any()) {
@@ -945,7 +945,7 @@ std::string Engine::disc_problem(int i, double tolerance, const Vec2* positions)
   }
   // No overlap with the discs of the neighbouring cells.
   std::string overlap;
-  for_each_near(i, [&](int j, const Vec2& shift) {
+  for_each_near(i, [&](int j, const Vector& shift) {
     if (!overlap.empty() || (positions ? j <= i : j == i)) return;
     const double distance = (ri - at(j) - shift).norm();
     const double contact = d.radius + hot[j].radius;
@@ -954,7 +954,7 @@ std::string Engine::disc_problem(int i, double tolerance, const Vec2* positions)
     }
   });
   if (!overlap.empty()) return overlap;
-  if (asleep(d) && !(d.velocity == Vec2::Zero() && cold[i].spin == 0)) {
+  if (asleep(d) && !(d.velocity == Vector::Zero() && cold[i].spin == 0)) {
     return describe("disc ", i, " is asleep but moves: velocity (", d.velocity.x(), ", ", d.velocity.y(), "), spin ", cold[i].spin);
   }
   // The next event lies in the future.
@@ -967,7 +967,7 @@ std::string Engine::disc_problem(int i, double tolerance, const Vec2* positions)
 std::string Engine::check(double tolerance) const {
   if (!prepared) return "";
   const int n = static_cast<int>(hot.size());
-  std::vector<Vec2> r(static_cast<std::size_t>(n));
+  std::vector<Vector> r(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) {
     HotDisc d = hot[i];
     advance_disc(d, now);

@@ -54,8 +54,8 @@ struct EventHint {
 // collision does (then a collision of smooth discs reads no cold state, two cache misses fewer
 // at large N); inertia and spin are only needed by rough discs.
 struct HotDisc {
-  Vec2 position;          // 16: centre at `time` (lazy: not advanced until an event touches the disc)
-  Vec2 velocity;          // 16: velocity at `time`
+  Vector position;        // 16: centre at `time` (lazy: not advanced until an event touches the disc)
+  Vector velocity;        // 16: velocity at `time`
   double time;            //  8: time of the last update
   double radius;          //  8
   double inverse_mass;    //  8: 0 while the disc sleeps (an immovable body, see sleep.cpp)
@@ -131,10 +131,10 @@ struct Engine {
   // in the freely falling frame, without gravity (`fall` holds Settings::gravity), and adds the
   // fall, g t^2 / 2 and g t, to what it reports (lab_frame): a gas that falls for ever keeps the
   // precision of its relative motion (lib/DESIGN.md, "Discs are never lost").
-  Vec2 gravity = Vec2::Zero();
+  Vector gravity = Vector::Zero();
   bool has_gravity = false;
   double gravity_norm = 0.0;
-  Vec2 fall = Vec2::Zero();
+  Vector fall = Vector::Zero();
   Restitution restitution;
   // Disc-disc collisions take the fast smooth elastic path (restitution 1, -1, no exchange).
   bool smooth_elastic = true;
@@ -213,7 +213,7 @@ struct Engine {
   void add_checked_disc(const Disc& disc);
   void remove_discs_from(int first);  // undoes the adding of discs first, first + 1, ...
   void rebuild_setup_hash(double cell);
-  bool overlaps_existing(const Vec2& position, double radius, int& other) const;
+  bool overlaps_existing(const Vector& position, double radius, int& other) const;
 
   // Event loop (engine.cpp).
   void prepare();
@@ -256,10 +256,10 @@ struct Engine {
   void choose_granular_model();
   void choose_speeds();
   void choose_rules();
-  double wall_time(const WallShape& wall, const Vec2& r, const Vec2& v, double radius) const;
-  void scan_cell(int i, int cx, int cy, const Vec2& r, const Vec2& v, Scheduled& s) const;
-  void scan_listed(int i, const int* list, int m, const Vec2& r, const Vec2& v, Scheduled& s) const;
-  void scan_walls(int cell, const Vec2& r, const Vec2& v, double radius, Scheduled& s) const;
+  double wall_time(const WallShape& wall, const Vector& r, const Vector& v, double radius) const;
+  void scan_cell(int i, int cx, int cy, const Vector& r, const Vector& v, Scheduled& s) const;
+  void scan_listed(int i, const int* list, int m, const Vector& r, const Vector& v, Scheduled& s) const;
+  void scan_walls(int cell, const Vector& r, const Vector& v, double radius, Scheduled& s) const;
   void set_crossing(int i);
   int event_tag(int i) const;
   void schedule(int i);
@@ -274,17 +274,17 @@ struct Engine {
   // A disc as the user sees it at engine time `t`: in the lab frame (the fall added in a periodic
   // box under gravity), wrapped into the box; `images`, if given, gets the wraps the fall adds.
   struct LabDisc {
-    Vec2 position, velocity;
+    Vector position, velocity;
   };
   LabDisc lab_frame(const HotDisc& d, double t, std::array<std::int64_t, 2>* images = nullptr) const;
   std::string check(double tolerance = 1e-9) const;
-  std::string disc_problem(int i, double tolerance, const Vec2* positions) const;
+  std::string disc_problem(int i, double tolerance, const Vector* positions) const;
   void record(EventKind kind, int i, int other, int wall);
 };
 
 // The message for a disc overlapping a wall, the same at set-up and in validation
 // (container.cpp).
-std::string wall_overlap_message(const std::string& who, const Vec2& p, int wall, double clearance, double radius);
+std::string wall_overlap_message(const std::string& who, const Vector& p, int wall, double clearance, double radius);
 
 inline void ScheduledKeys::prefetch(int i, int tag) const { engine->prefetch_event(i, tag); }
 
@@ -296,7 +296,7 @@ void Engine::for_each_near(int i, Visit visit) const {
   for (int dy = -1; dy <= 1; ++dy) {
     for (int dx = -1; dx <= 1; ++dx) {
       int x = d.cx + dx, y = d.cy + dy;
-      Vec2 shift = Vec2::Zero();
+      Vector shift = Vector::Zero();
       if (x < 0 || x >= grid.nx || y < 0 || y >= grid.ny) {
         if (!grid.periodic) continue;
         if (x < 0) { x += grid.nx; shift.x() = -container.period().x(); }

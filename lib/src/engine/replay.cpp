@@ -25,15 +25,15 @@ bool Replay::finished() const { return next_ >= simulation_->event_log().size();
 
 void Replay::apply(std::size_t k) {
   const EventRecord& e = simulation_->event_log()[k];
-  last_.positions.row(e.disc) = e.position.transpose();
-  last_.velocities.row(e.disc) = e.velocity.transpose();
+  last_.positions.row(e.disc) = e.position;
+  last_.velocities.row(e.disc) = e.velocity;
   last_.spins[e.disc] = e.spin;
   since_[e.disc] = e.time;
   if (e.kind == EventKind::Sleep) asleep_[e.disc] = true;
   if (e.kind == EventKind::Wake) asleep_[e.disc] = false;
   if (e.other >= 0) {
-    last_.positions.row(e.other) = e.other_position.transpose();
-    last_.velocities.row(e.other) = e.other_velocity.transpose();
+    last_.positions.row(e.other) = e.other_position;
+    last_.velocities.row(e.other) = e.other_velocity;
     last_.spins[e.other] = e.other_spin;
     since_[e.other] = e.time;
   }
@@ -47,11 +47,11 @@ State Replay::state_at(double t) const {
   for (Eigen::Index i = 0; i < state.positions.rows(); ++i) {
     if (asleep_[static_cast<std::size_t>(i)]) continue;
     const double dt = t - since_[i];
-    Vec2 r = last_.positions.row(i).transpose();
-    const Vec2 v = last_.velocities.row(i).transpose();
+    Vector r = last_.positions.row(i);
+    const Vector v = last_.velocities.row(i);
     r += dt * (v + 0.5 * dt * gravity_);
-    state.positions.row(i) = wrap_into_period(r, period_).transpose();
-    state.velocities.row(i) = (v + dt * gravity_).transpose();
+    state.positions.row(i) = wrap_into_period(r, period_);
+    state.velocities.row(i) = (v + dt * gravity_);
   }
   return state;
 }

@@ -7,7 +7,7 @@
 
 namespace billiard {
 
-Grid make_grid(const Vec2& lower, const Vec2& extent, double min_cell, bool periodic) {
+Grid make_grid(const Vector& lower, const Vector& extent, double min_cell, bool periodic) {
   Grid grid;
   grid.lower = lower;
   grid.extent = extent;
@@ -21,7 +21,7 @@ Grid make_grid(const Vec2& lower, const Vec2& extent, double min_cell, bool peri
   };
   grid.nx = count(extent.x());
   grid.ny = count(extent.y());
-  grid.cell = Vec2(extent.x() / grid.nx, extent.y() / grid.ny);
+  grid.cell = Vector(extent.x() / grid.nx, extent.y() / grid.ny);
   grid.capacity = kInline + 1;
   grid.records.assign(static_cast<std::size_t>(grid.nx) * grid.ny * 4, kNoDisc);
   for (std::size_t c = 0; c < grid.records.size(); c += 4) grid.records[c] = 0;
@@ -105,17 +105,17 @@ void remove_disc(Grid& grid, int c, int i) {
   }
 }
 
-int cell_of(const Grid& grid, const Vec2& p) {
+int cell_of(const Grid& grid, const Vector& p) {
   const int cx = std::clamp(static_cast<int>(std::floor((p.x() - grid.lower.x()) / grid.cell.x())), 0, grid.nx - 1);
   const int cy = std::clamp(static_cast<int>(std::floor((p.y() - grid.lower.y()) / grid.cell.y())), 0, grid.ny - 1);
   return cx + grid.nx * cy;
 }
 
-void cell_bounds(const Grid& grid, int c, Vec2& lo, Vec2& hi) {
+void cell_bounds(const Grid& grid, int c, Vector& lo, Vector& hi) {
   const int cx = c % grid.nx;
   const int cy = c / grid.nx;
-  lo = Vec2(grid.lower.x() + cx * grid.cell.x(), grid.lower.y() + cy * grid.cell.y());
-  hi = Vec2(grid.lower.x() + (cx + 1) * grid.cell.x(), grid.lower.y() + (cy + 1) * grid.cell.y());
+  lo = Vector(grid.lower.x() + cx * grid.cell.x(), grid.lower.y() + cy * grid.cell.y());
+  hi = Vector(grid.lower.x() + (cx + 1) * grid.cell.x(), grid.lower.y() + (cy + 1) * grid.cell.y());
   if (cx == grid.nx - 1) hi.x() = grid.periodic ? grid.lower.x() + grid.extent.x() : kNever;
   if (cy == grid.ny - 1) hi.y() = grid.periodic ? grid.lower.y() + grid.extent.y() : kNever;
   if (!grid.periodic) {
@@ -130,25 +130,25 @@ void assign_walls(Grid& grid, const std::vector<WallShape>& walls, double reach)
   for (int k = 0; k < static_cast<int>(walls.size()); ++k) {
     const WallShape& wall = walls[k];
     // Only the cells of the wall's bounding box grown by `reach` can be near it.
-    Vec2 box_lo, box_hi;
+    Vector box_lo, box_hi;
     if (wall.kind == WallKind::Arc) {
       arc_bounds(wall, box_lo, box_hi);
-      box_lo -= Vec2::Constant(reach);
-      box_hi += Vec2::Constant(reach);
+      box_lo -= Vector::Constant(reach);
+      box_hi += Vector::Constant(reach);
     } else if (wall.kind == WallKind::Circle) {
-      box_lo = wall.a - Vec2::Constant(wall.radius + reach);
-      box_hi = wall.a + Vec2::Constant(wall.radius + reach);
+      box_lo = wall.a - Vector::Constant(wall.radius + reach);
+      box_hi = wall.a + Vector::Constant(wall.radius + reach);
     } else {
-      const Vec2 b = wall.kind == WallKind::Segment ? wall.b : wall.a;
-      box_lo = wall.a.cwiseMin(b) - Vec2::Constant(reach);
-      box_hi = wall.a.cwiseMax(b) + Vec2::Constant(reach);
+      const Vector b = wall.kind == WallKind::Segment ? wall.b : wall.a;
+      box_lo = wall.a.cwiseMin(b) - Vector::Constant(reach);
+      box_hi = wall.a.cwiseMax(b) + Vector::Constant(reach);
     }
     const int c_lo = cell_of(grid, box_lo);
     const int c_hi = cell_of(grid, box_hi);
     for (int cy = c_lo / grid.nx; cy <= c_hi / grid.nx; ++cy) {
       for (int cx = c_lo % grid.nx; cx <= c_hi % grid.nx; ++cx) {
-        const Vec2 lo(grid.lower.x() + cx * grid.cell.x(), grid.lower.y() + cy * grid.cell.y());
-        const Vec2 hi = lo + grid.cell;
+        const Vector lo(grid.lower.x() + cx * grid.cell.x(), grid.lower.y() + cy * grid.cell.y());
+        const Vector hi = lo + grid.cell;
         bool near = false;
         switch (wall.kind) {
           case WallKind::Segment:
@@ -163,7 +163,7 @@ void assign_walls(Grid& grid, const std::vector<WallShape>& walls, double reach)
           case WallKind::Circle: {
             // A disc of radius <= reach centred in the cell can touch the rim only if the cell
             // reaches out to distance radius - reach from the centre.
-            const Vec2 far = (lo - wall.a).cwiseAbs().cwiseMax((hi - wall.a).cwiseAbs());
+            const Vector far = (lo - wall.a).cwiseAbs().cwiseMax((hi - wall.a).cwiseAbs());
             near = far.norm() >= wall.radius - reach;
             break;
           }

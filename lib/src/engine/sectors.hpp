@@ -6,7 +6,7 @@
 #pragma once
 
 #include "memory.hpp"
-#include "billiard/engine/vec2.hpp"
+#include "billiard/engine/plane.hpp"
 #include "billiard/engine/disc.hpp"  // kNoDisc
 #include "billiard/engine/wall.hpp"
 
@@ -15,9 +15,9 @@
 namespace billiard {
 
 struct Grid {
-  Vec2 lower = Vec2::Zero();  // corner of cell (0, 0)
-  Vec2 extent = Vec2::Zero(); // size of the whole grid (the period when periodic)
-  Vec2 cell = Vec2::Zero();   // size of one cell
+  Vector lower = Vector::Zero();  // corner of cell (0, 0)
+  Vector extent = Vector::Zero(); // size of the whole grid (the period when periodic)
+  Vector cell = Vector::Zero();   // size of one cell
   int nx = 1;
   int ny = 1;
   bool periodic = false;
@@ -44,7 +44,7 @@ inline constexpr int kHasWalls = 1 << 30;
 // A grid over [lower, lower + extent] with cells no smaller than min_cell (at least one per side;
 // the caller keeps 3 per side in a periodic grid by its choice of min_cell). Cells are numbered
 // c = cx + nx cy.
-Grid make_grid(const Vec2& lower, const Vec2& extent, double min_cell, bool periodic);
+Grid make_grid(const Vector& lower, const Vector& extent, double min_cell, bool periodic);
 
 // Most discs of radius >= min_radius whose centres can lie in one cell without overlapping:
 // their areas fit in the cell grown by min_radius on every side at no more than the densest
@@ -90,11 +90,11 @@ void insert_disc(Grid& grid, int c, int i);
 void remove_disc(Grid& grid, int c, int i);
 
 // Cell of a point (clamped to the grid; for a periodic grid the point must be inside the period).
-int cell_of(const Grid& grid, const Vec2& p);
+int cell_of(const Grid& grid, const Vector& p);
 
 // Bounds of cell c used for crossing events. The outer faces of a non-periodic grid are at
 // infinity: nothing can leave the grid, so rounding at the container's edge cannot lose a disc.
-void cell_bounds(const Grid& grid, int c, Vec2& lo, Vec2& hi);
+void cell_bounds(const Grid& grid, int c, Vector& lo, Vector& hi);
 
 // Fills the wall ranges and wall_items: wall k is listed in every cell whose rectangle lies within
 // `reach` (the largest disc radius, plus a margin) of it.

@@ -24,7 +24,7 @@ using limits::kRelativeRadius;
 using limits::kSmallest;
 const char* const kBounded = limits::kMustBeBounded;
 const char* const kScale = limits::kMustBeInScale;
-bool bounded(const Vec2& v) { return bounded(v.x(), v.y()); }
+bool bounded(const Vector& v) { return bounded(v.x(), v.y()); }
 
 void require_setup(const Engine& e, const char* call) {
   if (e.prepared) {
@@ -47,7 +47,7 @@ std::int64_t hash_column(double x, double cell) {
 
 }  // namespace
 
-std::string wall_overlap_message(const std::string& who, const Vec2& p, int wall, double clearance, double radius) {
+std::string wall_overlap_message(const std::string& who, const Vector& p, int wall, double clearance, double radius) {
   return describe(who, " at ", p, " overlaps wall ", wall, ": distance ", radius + clearance, " < radius ", radius);
 }
 
@@ -59,15 +59,15 @@ void Engine::rebuild_setup_hash(double cell) {
   setup_hash.cell = cell;
   setup_hash.cells.clear();
   for (int i = 0; i < static_cast<int>(hot.size()); ++i) {
-    const Vec2& p = hot[i].position;
+    const Vector& p = hot[i].position;
     setup_hash.cells[hash_key(hash_column(p.x(), cell), hash_column(p.y(), cell))].push_back(i);
   }
 }
 
-bool Engine::overlaps_existing(const Vec2& position, double radius, int& other) const {
+bool Engine::overlaps_existing(const Vector& position, double radius, int& other) const {
   if (hot.empty()) return false;
   auto overlap = [&](int j) {
-    const Vec2 d = minimum_image(container, position - hot[j].position);
+    const Vector d = minimum_image(container, position - hot[j].position);
     const double contact = radius + hot[j].radius;
     return d.squaredNorm() < contact * contact;
   };
@@ -91,7 +91,7 @@ bool Engine::overlaps_existing(const Vec2& position, double radius, int& other) 
   // An image across a face holds a disc that overlaps only if the position lies within a contact
   // distance of that face (every disc lies in the box): the others are skipped (twice that
   // distance, against rounding), which finds the same discs in the same order.
-  const Vec2& period = container.period();
+  const Vector& period = container.period();
   const double near = 2 * (radius + max_radius);
   const auto far_from = [&](int shift, double coordinate, double side) {
     return (shift > 0 && coordinate > near) || (shift < 0 && coordinate < side - near);
@@ -99,7 +99,7 @@ bool Engine::overlaps_existing(const Vec2& position, double radius, int& other) 
   for (int sy = -images; sy <= images; ++sy) {
     for (int sx = -images; sx <= images; ++sx) {
       if (far_from(sx, position.x(), period.x()) || far_from(sy, position.y(), period.y())) continue;
-      const Vec2 p = position + Vec2(sx * period.x(), sy * period.y());
+      const Vector p = position + Vector(sx * period.x(), sy * period.y());
       const std::int64_t cx = hash_column(p.x(), h);
       const std::int64_t cy = hash_column(p.y(), h);
       for (std::int64_t y = cy - reach; y <= cy + reach; ++y) {
@@ -134,7 +134,7 @@ void Engine::check_disc(const Disc& disc, int index) const {
            ", which no disc can have (a thin ring, all its mass at the rim, has that much)");
   }
   if (!bounded(disc.spin)) refuse(who + ": spin " + kBounded + ", got " + describe(disc.spin));
-  const Vec2& r = disc.position;
+  const Vector& r = disc.position;
   const double a = disc.radius;
   const std::string where = outside(container, r, a, 0.0);
   if (!where.empty()) refuse(who + " " + where);
@@ -192,7 +192,7 @@ void Engine::add_checked_disc(const Disc& disc) {
     max_radius = disc.radius;
     rebuild_setup_hash(2 * max_radius);
   } else {
-    const Vec2& p = disc.position;
+    const Vector& p = disc.position;
     setup_hash.cells[hash_key(hash_column(p.x(), setup_hash.cell), hash_column(p.y(), setup_hash.cell))].push_back(i);
   }
 }
@@ -238,10 +238,10 @@ const Settings& checked(const Settings& s) {
 
 Engine::Engine(Container c, const Settings& s)
     : container(std::move(c)),
-      gravity(container.periodic() ? Vec2::Zero() : s.gravity),
+      gravity(container.periodic() ? Vector::Zero() : s.gravity),
       has_gravity(gravity.x() != 0 || gravity.y() != 0),
       gravity_norm(gravity.norm()),
-      fall(container.periodic() ? s.gravity : Vec2::Zero()),
+      fall(container.periodic() ? s.gravity : Vector::Zero()),
       restitution(s.restitution),
       exchange_velocities(s.exchange_velocities),
       contact_duration_setting(s.contact_duration),
@@ -357,7 +357,7 @@ int Simulation::add_disc(const Disc& disc) {
   return index;
 }
 
-int Simulation::add_discs(const Points& positions, const Points& velocities, double radius, double mass) {
+int Simulation::add_discs(const Coordinates& positions, const Velocities& velocities, double radius, double mass) {
   Engine& e = engine_of(engine_);
   require_setup(e, "add_discs");
   if (velocities.rows() != positions.rows()) {
@@ -370,8 +370,8 @@ int Simulation::add_discs(const Points& positions, const Points& velocities, dou
   try {  // all or nothing
     for (Eigen::Index k = 0; k < positions.rows(); ++k) {
       Disc disc;
-      disc.position = positions.row(k).transpose();
-      disc.velocity = velocities.row(k).transpose();
+      disc.position = positions.row(k);
+      disc.velocity = velocities.row(k);
       disc.radius = radius;
       disc.mass = mass;
       add_disc(disc);
@@ -388,13 +388,13 @@ namespace {
 // The steps of add_random_discs. 1. Random sequential addition: uniform and independent places in
 // [lo, hi], as long as there is room (60 tries a disc); returns how many were placed.
 template <class TryPlace>
-int place_at_random(int n, const Vec2& lo, const Vec2& hi, const Container& container, std::mt19937_64& rng,
+int place_at_random(int n, const Vector& lo, const Vector& hi, const Container& container, std::mt19937_64& rng,
                     TryPlace try_place) {
   std::uniform_real_distribution<double> ux(lo.x(), hi.x()), uy(lo.y(), hi.y());
   long long budget = 60LL * n + 1000;
   int placed = 0;
   while (placed < n && budget-- > 0) {
-    Vec2 p(ux(rng), uy(rng));
+    Vector p(ux(rng), uy(rng));
     if (container.periodic()) p = p.cwiseMin(container.period() * (1 - 1e-15));
     if (try_place(p)) ++placed;
   }
@@ -413,7 +413,7 @@ struct PeriodicLattice {
   long long sites() const { return static_cast<long long>(columns) * rows; }
 };
 
-PeriodicLattice periodic_lattice(const Vec2& period, double spacing) {
+PeriodicLattice periodic_lattice(const Vector& period, double spacing) {
   PeriodicLattice best;
   const double most_columns = std::floor(period.x() / spacing);
   for (double columns = most_columns; columns >= 1 && columns > 0.5 * most_columns; --columns) {
@@ -429,11 +429,11 @@ PeriodicLattice periodic_lattice(const Vec2& period, double spacing) {
 // 2. Too dense for random addition: the sites of a triangular lattice with spacing just above a
 // diameter (fitted to the period in a periodic box, so that it closes), shuffled. It melts within
 // a few collisions per disc. `placed_at_random` is only for the message.
-std::vector<Vec2> lattice_sites(int n, int placed_at_random, double radius, const Vec2& lo, const Vec2& hi,
+std::vector<Vector> lattice_sites(int n, int placed_at_random, double radius, const Vector& lo, const Vector& hi,
                                 const Container& container, std::mt19937_64& rng) {
   const double spacing = 2 * radius * (1 + 1e-9);
   double dx = spacing, dy = spacing * std::sqrt(3.0) / 2;
-  Vec2 offset(std::uniform_real_distribution<double>(0, dx)(rng), std::uniform_real_distribution<double>(0, dy)(rng));
+  Vector offset(std::uniform_real_distribution<double>(0, dx)(rng), std::uniform_real_distribution<double>(0, dy)(rng));
   // The sites cover the bounding box, which can be far larger than a thin polygon inside it:
   // refuse rather than fill the memory (or overflow the counts).
   const double site_count = (std::ceil((hi.x() - lo.x()) / dx) + 1) * (std::ceil((hi.y() - lo.y()) / dy) + 1);
@@ -447,7 +447,7 @@ std::vector<Vec2> lattice_sites(int n, int placed_at_random, double radius, cons
   bool rows_along_y = false;
   if (container.periodic()) {
     const PeriodicLattice along_x = periodic_lattice(container.period(), spacing);
-    const PeriodicLattice along_y = periodic_lattice(Vec2(container.period().y(), container.period().x()), spacing);
+    const PeriodicLattice along_y = periodic_lattice(Vector(container.period().y(), container.period().x()), spacing);
     rows_along_y = along_y.sites() > along_x.sites();
     const PeriodicLattice& best = rows_along_y ? along_y : along_x;
     if (best.sites() == 0) refuse("add_random_discs: the periodic box is too small for discs of radius " + describe(radius));
@@ -455,15 +455,15 @@ std::vector<Vec2> lattice_sites(int n, int placed_at_random, double radius, cons
     rows = best.rows;
     dx = best.dx;
     dy = best.dy;
-    offset = offset.cwiseMin(Vec2(dx, dy) * 0.999);
+    offset = offset.cwiseMin(Vector(dx, dy) * 0.999);
   }
-  std::vector<Vec2> sites;
+  std::vector<Vector> sites;
   for (int row = 0; row < rows; ++row) {
     for (int column = 0; column < columns; ++column) {
-      Vec2 p = offset + Vec2(column * dx + (row % 2) * dx / 2, row * dy);
-      if (rows_along_y) p = Vec2(p.y(), p.x());
+      Vector p = offset + Vector(column * dx + (row % 2) * dx / 2, row * dy);
+      if (rows_along_y) p = Vector(p.y(), p.x());
       p += lo;
-      sites.push_back(container.periodic() ? Vec2(std::fmod(p.x(), container.period().x()), std::fmod(p.y(), container.period().y())) : p);
+      sites.push_back(container.periodic() ? Vector(std::fmod(p.x(), container.period().x()), std::fmod(p.y(), container.period().y())) : p);
     }
   }
   std::shuffle(sites.begin(), sites.end(), rng);
@@ -492,7 +492,7 @@ int Simulation::add_random_discs(int n, double radius, double mass, double kT, s
   if (!in_scale(mass)) refuse(std::string("add_random_discs: mass ") + kScale + ", got " + describe(mass));
   if (!(kT >= 0) || !bounded(kT)) refuse("add_random_discs: kT must be >= 0, finite and at most 1e50, got " + describe(kT));
 
-  Vec2 lo, hi;  // where centres may lie
+  Vector lo, hi;  // where centres may lie
   bounds(e.container, lo, hi);
   const double largest = extent(e.container);
   if (radius < kRelativeRadius * largest) {
@@ -518,7 +518,7 @@ int Simulation::add_random_discs(int n, double radius, double mass, double kT, s
   // places tried in a dense start are refused, so they are tested here first without the
   // exception add_disc would throw: an exception a try made 10,000 discs at area fraction 0.5
   // take 10 s.
-  auto try_place = [&](const Vec2& position) {
+  auto try_place = [&](const Vector& position) {
     int other = -1;
     if (where_outside(e.container, position, radius, 0.0) != Outside::No || overlapped_wall(e.container, position, radius, 0.0) ||
         (!e.hot.empty() && e.overlaps_existing(position, radius, other))) {
@@ -540,7 +540,7 @@ int Simulation::add_random_discs(int n, double radius, double mass, double kT, s
     if (placed < n) {
       e.remove_discs_from(first);
       placed = 0;
-      for (const Vec2& p : lattice_sites(n, placed, radius, lo, hi, e.container, rng)) {
+      for (const Vector& p : lattice_sites(n, placed, radius, lo, hi, e.container, rng)) {
         if (placed == n) break;
         if (try_place(p)) ++placed;
       }
@@ -550,7 +550,7 @@ int Simulation::add_random_discs(int n, double radius, double mass, double kT, s
       }
     }
     const Eigen::Matrix<double, Eigen::Dynamic, 2> v = thermal_velocities(n, mass, kT, rng);
-    for (int k = 0; k < n; ++k) e.hot[static_cast<std::size_t>(first + k)].velocity = v.row(k).transpose();
+    for (int k = 0; k < n; ++k) e.hot[static_cast<std::size_t>(first + k)].velocity = v.row(k);
   } catch (...) {  // all or nothing
     e.remove_discs_from(first);
     throw;
@@ -598,7 +598,7 @@ double Simulation::kinetic_energy() const {
   for (std::size_t i = 0; i < e.hot.size(); ++i) {
     HotDisc d = e.hot[i];
     e.advance_disc(d, e.now);
-    const Vec2 velocity = e.lab_frame(d, e.now).velocity;
+    const Vector velocity = e.lab_frame(d, e.now).velocity;
     sum += 0.5 * e.cold[i].mass * velocity.squaredNorm() + 0.5 * e.cold[i].inertia * e.cold[i].spin * e.cold[i].spin;
   }
   return sum;
@@ -639,7 +639,7 @@ Eigen::VectorXd Simulation::radii() const { return column(engine_of(engine_).hot
 Eigen::VectorXd Simulation::masses() const { return column(engine_of(engine_).cold, &ColdDisc::mass); }
 Eigen::VectorXd Simulation::inertias() const { return column(engine_of(engine_).cold, &ColdDisc::inertia); }
 
-Vec2 Simulation::gravity() const { return engine_of(engine_).gravity + engine_of(engine_).fall; }
+Vector Simulation::gravity() const { return engine_of(engine_).gravity + engine_of(engine_).fall; }
 Restitution Simulation::restitution() const { return engine_of(engine_).restitution; }
 double Simulation::contact_duration() const { return engine_of(engine_).contact_duration; }
 double Simulation::elastic_impact_speed() const { return engine_of(engine_).elastic_impact_speed; }

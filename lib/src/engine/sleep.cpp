@@ -91,12 +91,12 @@ void Engine::try_to_sleep(int i) {
         held = wall_clearance(container.walls()[grid.wall_items[w]], d.position, d.radius) <= gap;
       }
     }
-    for_each_near(m, [&](int j, const Vec2& shift) {
+    for_each_near(m, [&](int j, const Vector& shift) {
       if (j == m || !all_slow) return;
       HotDisc& o = hot[j];
       if (in_island[j]) return;
       const double reach = d.radius + o.radius + gap;
-      const Vec2 position = asleep(o) ? o.position : [&] {
+      const Vector position = asleep(o) ? o.position : [&] {
         advance_disc(o, now);
         return o.position;
       }();
@@ -116,7 +116,7 @@ void Engine::try_to_sleep(int i) {
   }
   for (int m : members) {
     HotDisc& d = hot[m];
-    d.velocity = Vec2::Zero();
+    d.velocity = Vector::Zero();
     d.inverse_mass = 0;
     d.time = now;
     cold[m].spin = 0;
@@ -138,7 +138,7 @@ void Engine::try_to_sleep(int i) {
 // predicts them again.
 void Engine::predict_around(const std::vector<int>& discs) {
   for (int i : discs) {
-    for_each_near(i, [&](int j, const Vec2&) {
+    for_each_near(i, [&](int j, const Vector&) {
       if (!asleep(hot[j])) predict_full(j);
     });
   }
@@ -148,23 +148,23 @@ void Engine::predict_around(const std::vector<int>& discs) {
 bool Engine::hit_wakes(int i, int j) const {
   HotDisc d = hot[i];
   advance_disc(d, now);
-  const Vec2 sigma = minimum_image(container, hot[j].position - d.position).normalized();
+  const Vector sigma = minimum_image(container, hot[j].position - d.position).normalized();
   return d.velocity.dot(sigma) >= sleep_speed;
 }
 
 // Wakes sleeping disc j and, in turn, every sleeping disc resting on a disc woken; each then
 // falls freely from rest, from now.
 void Engine::wake(int j) {
-  const Vec2 up = -gravity.normalized();
+  const Vector up = -gravity.normalized();
   woken.assign(1, j);
   hot[j].inverse_mass = 1.0 / cold[j].mass;
   for (std::size_t k = 0; k < woken.size(); ++k) {
     const HotDisc& lower = hot[woken[k]];
     const double gap = island_gap(lower.radius);
-    for_each_near(woken[k], [&](int o, const Vec2& shift) {
+    for_each_near(woken[k], [&](int o, const Vector& shift) {
       HotDisc& upper = hot[o];
       if (!asleep(upper)) return;
-      const Vec2 towards = upper.position + shift - lower.position;
+      const Vector towards = upper.position + shift - lower.position;
       const double distance = towards.norm();
       if (distance <= upper.radius + lower.radius + gap && towards.dot(up) > kRestingOn * distance) {
         upper.inverse_mass = 1.0 / cold[o].mass;

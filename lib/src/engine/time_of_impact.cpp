@@ -148,7 +148,7 @@ double first_polynomial_crossing(const double* p, int degree, double t_max, bool
   return t;
 }
 
-double disc_disc_time(const Vec2& dr, const Vec2& dv, double contact) {
+double disc_disc_time(const Vector& dr, const Vector& dv, double contact) {
   const double b = dr.dot(dv);
   // Flying apart, or side by side (grazing): no collision.
   if (b >= 0 || moving_along(b, dr.squaredNorm(), dv.squaredNorm())) return kNever;
@@ -160,8 +160,8 @@ double disc_disc_time(const Vec2& dr, const Vec2& dv, double contact) {
   return std::max(c / (-b + std::sqrt(discriminant)), 0.0);
 }
 
-double disc_point_time(const Vec2& r, const Vec2& v, const Vec2& g, const Vec2& p, double radius) {
-  const Vec2 d = r - p;
+double disc_point_time(const Vector& r, const Vector& v, const Vector& g, const Vector& p, double radius) {
+  const Vector d = r - p;
   if (g.x() == 0 && g.y() == 0) return disc_disc_time(d, v, radius);
   // f(t) = |d + v t + g t^2/2|^2 - radius^2
   //      = (g.g/4) t^4 + (v.g) t^3 + (v.v + d.g) t^2 + 2 (d.v) t + d.d - radius^2.
@@ -187,7 +187,7 @@ double disc_point_time(const Vec2& r, const Vec2& v, const Vec2& g, const Vec2& 
   return horner(poly, 4, highest) <= 0 ? 0.0 : kNever;
 }
 
-double disc_in_circle_time(const Vec2& r, const Vec2& v, const Vec2& g, double reach) {
+double disc_in_circle_time(const Vector& r, const Vector& v, const Vector& g, double reach) {
   const double C = r.squaredNorm() - reach * reach;  // <= 0 inside
   const double B = r.dot(v);
   if (g.x() == 0 && g.y() == 0) {
@@ -232,14 +232,14 @@ double disc_in_circle_time(const Vec2& r, const Vec2& v, const Vec2& g, double r
   return t == kNever && C >= 0 ? 0.0 : t;
 }
 
-double disc_segment_time(const Vec2& r, const Vec2& v, const Vec2& g, const Vec2& a, const Vec2& b,
+double disc_segment_time(const Vector& r, const Vector& v, const Vector& g, const Vector& a, const Vector& b,
                          double radius) {
-  const Vec2 along = b - a;
+  const Vector along = b - a;
   const double length = along.norm();
   if (length == 0) return kNever;
-  const Vec2 u = along / length;  // unit tangent
-  const Vec2 n = perp(u);         // unit normal
-  const Vec2 d = r - a;
+  const Vector u = along / length;  // unit tangent
+  const Vector n = perp(u);         // unit normal
+  const Vector d = r - a;
   const double d0 = d.dot(n);   // signed distance of the centre from the line
   const double vn = v.dot(n);
   const double gn = g.dot(n);
@@ -264,7 +264,7 @@ double disc_segment_time(const Vec2& r, const Vec2& v, const Vec2& g, const Vec2
   return best;
 }
 
-bool arc_contains(double start, double sweep, const Vec2& d) {
+bool arc_contains(double start, double sweep, const Vector& d) {
   constexpr double kTurn = 2 * M_PI;
   if (sweep >= kTurn) return true;
   double angle = std::atan2(d.y(), d.x()) - start;
@@ -272,7 +272,7 @@ bool arc_contains(double start, double sweep, const Vec2& d) {
   return angle <= sweep;
 }
 
-double disc_arc_time(const Vec2& r, const Vec2& v, const Vec2& g, double rho, double start, double sweep,
+double disc_arc_time(const Vector& r, const Vector& v, const Vector& g, double rho, double start, double sweep,
                      double radius) {
   // Contact with the circle of the arc: |r(t)| = outer (disc outside the circle, convex side) or
   // |r(t)| = inner (disc inside, concave side), where r(t) = r + v t + g t^2 / 2. Squared:
@@ -282,7 +282,7 @@ double disc_arc_time(const Vec2& r, const Vec2& v, const Vec2& g, double rho, do
   const double outer = rho + radius;
   const double inner = rho - radius;  // <= 0: the disc is too large to touch the concave face
   const bool outside = r.squaredNorm() >= rho * rho;
-  auto on_arc = [&](double t) { return arc_contains(start, sweep, Vec2(r + v * t + (0.5 * t * t) * g)); };
+  auto on_arc = [&](double t) { return arc_contains(start, sweep, Vector(r + v * t + (0.5 * t * t) * g)); };
   const double A = v.squaredNorm();
   const double B = r.dot(v);
   const double C = r.squaredNorm();
@@ -309,7 +309,7 @@ double disc_arc_time(const Vec2& r, const Vec2& v, const Vec2& g, double rho, do
   }
   // Gravity. Contact now (rounding overlap, moving in) is decided as for the full circle.
   if (outside) {
-    if (disc_point_time(r, v, g, Vec2::Zero(), outer) == 0 && on_arc(0)) return 0.0;
+    if (disc_point_time(r, v, g, Vector::Zero(), outer) == 0 && on_arc(0)) return 0.0;
   } else if (inner > 0 && disc_in_circle_time(r, v, g, inner) == 0 && on_arc(0)) {
     return 0.0;
   }
@@ -341,7 +341,7 @@ double disc_arc_time(const Vec2& r, const Vec2& v, const Vec2& g, double rho, do
   return best;
 }
 
-CellExit cell_exit_time(const Vec2& r, const Vec2& v, const Vec2& g, const Vec2& lo, const Vec2& hi) {
+CellExit cell_exit_time(const Vector& r, const Vector& v, const Vector& g, const Vector& lo, const Vector& hi) {
   CellExit exit;
   for (int axis = 0; axis < 2; ++axis) {
     if (g[axis] == 0) {  // no acceleration along this axis (gravity along the other one): a line

@@ -9,7 +9,7 @@
 // Times are never shifted by epsilons.
 #pragma once
 
-#include "billiard/engine/vec2.hpp"
+#include "billiard/engine/plane.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -48,24 +48,24 @@ double first_polynomial_crossing(const double* p, int degree, double t_max, bool
 // distance `contact` = a_i + a_j. Relative motion is linear even under gravity (both discs fall
 // alike). Approaching only if b = dr.dv < 0 (and not moving_along); then t = c / (-b + sqrt(b^2 - dv.dv c)) with
 // c = dr.dr - contact^2 (stable form). A pair that has just collided has c ~ 0, b > 0: never.
-double disc_disc_time(const Vec2& dr, const Vec2& dv, double contact);
+double disc_disc_time(const Vector& dr, const Vector& dv, double contact);
 
 // A disc of radius `radius` at r with velocity v under gravity g hitting a fixed point p (the
 // end of a wall segment, a corner). Without gravity the disc-disc formula with a point of
 // radius 0; with gravity |r - p + v t + g t^2 / 2|^2 = radius^2 is a quartic.
-double disc_point_time(const Vec2& r, const Vec2& v, const Vec2& g, const Vec2& p, double radius);
+double disc_point_time(const Vector& r, const Vector& v, const Vector& g, const Vector& p, double radius);
 
 // A disc inside a circle of radius `reach` = R - a centred at the origin (r is the disc centre
 // relative to the circle centre): time when |r(t)| = reach while moving outwards. Without gravity
 // the stable quadratic of the course (A t^2 + 2 B t + C = 0); with gravity a quartic, bounded by
 // the time after which |g| t^2 / 2 - |v| t - |r| >= reach (the disc must be outside by then).
-double disc_in_circle_time(const Vec2& r, const Vec2& v, const Vec2& g, double reach);
+double disc_in_circle_time(const Vector& r, const Vector& v, const Vector& g, double reach);
 
 // A disc hitting the segment from a to b (either side, only the part between the end points;
 // the end points themselves are separate obstacles, see disc_point_time). Signed distance to
 // the line d(t) = d0 + (v.n) t + (g.n) t^2 / 2 with n the unit normal; contact when |d| = radius
 // while approaching, and only if the foot of the perpendicular lies on the segment then.
-double disc_segment_time(const Vec2& r, const Vec2& v, const Vec2& g, const Vec2& a, const Vec2& b,
+double disc_segment_time(const Vector& r, const Vector& v, const Vector& g, const Vector& a, const Vector& b,
                          double radius);
 
 // Every crossing of zero by p (as in first_polynomial_crossing) in [0, t_max], in increasing
@@ -74,7 +74,7 @@ int polynomial_crossings(const double* p, int degree, double t_max, bool rising,
 
 // Is the direction d (from an arc's centre, d != 0) on the arc that starts at the angle `start`
 // and runs counter-clockwise through `sweep` radians (0 < sweep <= 2 pi; 2 pi is a full circle)?
-bool arc_contains(double start, double sweep, const Vec2& d);
+bool arc_contains(double start, double sweep, const Vector& d);
 
 // A disc of `radius` at r (relative to the arc's centre) with velocity v under gravity g hitting
 // the arc of radius rho (start angle and sweep as in arc_contains) from either side: from inside
@@ -85,7 +85,7 @@ bool arc_contains(double start, double sweep, const Vec2& d);
 // and meet it later from the other side, so every crossing is checked in turn and the earliest
 // one on the arc is the contact. A full circle seen from inside is disc_in_circle_time, from
 // outside disc_point_time with the point at the centre and radius rho + radius.
-double disc_arc_time(const Vec2& r, const Vec2& v, const Vec2& g, double rho, double start, double sweep,
+double disc_arc_time(const Vector& r, const Vector& v, const Vector& g, double rho, double start, double sweep,
                      double radius);
 
 // A point at x moving at constant speed v between faces lo and hi (either may be +-infinity):
@@ -107,6 +107,6 @@ struct CellExit {
   int axis = 0;
   int direction = 0;
 };
-CellExit cell_exit_time(const Vec2& r, const Vec2& v, const Vec2& g, const Vec2& lo, const Vec2& hi);
+CellExit cell_exit_time(const Vector& r, const Vector& v, const Vector& g, const Vector& lo, const Vector& hi);
 
 }  // namespace billiard

@@ -9,17 +9,17 @@
 
 namespace billiard {
 
-double distance_to_segment(const Vec2& p, const Vec2& a, const Vec2& b) {
-  const Vec2 ab = b - a;
+double distance_to_segment(const Vector& p, const Vector& a, const Vector& b) {
+  const Vector ab = b - a;
   const double length2 = ab.squaredNorm();
   const double s = length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
   return (p - (a + s * ab)).norm();
 }
 
-Vec2 closest_point(const WallShape& wall, const Vec2& p) {
+Vector closest_point(const WallShape& wall, const Vector& p) {
   switch (wall.kind) {
     case WallKind::Segment: {
-      const Vec2 ab = wall.b - wall.a;
+      const Vector ab = wall.b - wall.a;
       const double length2 = ab.squaredNorm();
       const double s = length2 > 0 ? std::clamp((p - wall.a).dot(ab) / length2, 0.0, 1.0) : 0.0;
       return wall.a + s * ab;
@@ -27,26 +27,26 @@ Vec2 closest_point(const WallShape& wall, const Vec2& p) {
     case WallKind::Point:
       return wall.a;
     case WallKind::Circle: {
-      const Vec2 d = p - wall.a;
+      const Vector d = p - wall.a;
       const double norm = d.norm();
-      return norm > 0 ? Vec2(wall.a + wall.radius / norm * d) : Vec2(wall.a + Vec2(wall.radius, 0));
+      return norm > 0 ? Vector(wall.a + wall.radius / norm * d) : Vector(wall.a + Vector(wall.radius, 0));
     }
     case WallKind::Arc: {
       // On the arc: radially; off it, the nearer end point (the distance to the circle's points
       // grows with the angle from p's direction).
-      const Vec2 d = p - wall.a;
+      const Vector d = p - wall.a;
       const double norm = d.norm();
       if (norm > 0 && arc_contains(wall.start_angle, wall.sweep, d)) return wall.a + wall.radius / norm * d;
       if (wall.sweep >= 2 * M_PI) return arc_point(wall, wall.start_angle);  // (p at the centre)
-      const Vec2 first = arc_point(wall, wall.start_angle);
-      const Vec2 last = arc_point(wall, wall.start_angle + wall.sweep);
+      const Vector first = arc_point(wall, wall.start_angle);
+      const Vector last = arc_point(wall, wall.start_angle + wall.sweep);
       return (first - p).squaredNorm() <= (last - p).squaredNorm() ? first : last;
     }
   }
   return wall.a;
 }
 
-double point_rectangle_distance(const Vec2& p, const Vec2& lo, const Vec2& hi) {
+double point_rectangle_distance(const Vector& p, const Vector& lo, const Vector& hi) {
   const double dx = std::max({lo.x() - p.x(), 0.0, p.x() - hi.x()});
   const double dy = std::max({lo.y() - p.y(), 0.0, p.y() - hi.y()});
   return std::hypot(dx, dy);
@@ -54,7 +54,7 @@ double point_rectangle_distance(const Vec2& p, const Vec2& lo, const Vec2& hi) {
 
 namespace {
 // Do the segments p1-p2 and q1-q2 cross or touch?
-bool segments_meet(const Vec2& p1, const Vec2& p2, const Vec2& q1, const Vec2& q2) {
+bool segments_meet(const Vector& p1, const Vector& p2, const Vector& q1, const Vector& q2) {
   const double d1 = cross(q2 - q1, p1 - q1);
   const double d2 = cross(q2 - q1, p2 - q1);
   const double d3 = cross(p2 - p1, q1 - p1);
@@ -63,20 +63,20 @@ bool segments_meet(const Vec2& p1, const Vec2& p2, const Vec2& q1, const Vec2& q
 }
 }  // namespace
 
-double segment_rectangle_distance(const Vec2& a, const Vec2& b, const Vec2& lo, const Vec2& hi) {
+double segment_rectangle_distance(const Vector& a, const Vector& b, const Vector& lo, const Vector& hi) {
   if (point_rectangle_distance(a, lo, hi) == 0 || point_rectangle_distance(b, lo, hi) == 0) return 0.0;
-  const Vec2 corners[4] = {lo, Vec2(hi.x(), lo.y()), hi, Vec2(lo.x(), hi.y())};
+  const Vector corners[4] = {lo, Vector(hi.x(), lo.y()), hi, Vector(lo.x(), hi.y())};
   for (int k = 0; k < 4; ++k) {
     if (segments_meet(a, b, corners[k], corners[(k + 1) % 4])) return 0.0;
   }
   // Apart: the closest pair involves an end point of the segment or a corner of the rectangle.
   double best = std::min(point_rectangle_distance(a, lo, hi), point_rectangle_distance(b, lo, hi));
-  for (const Vec2& corner : corners) best = std::min(best, distance_to_segment(corner, a, b));
+  for (const Vector& corner : corners) best = std::min(best, distance_to_segment(corner, a, b));
   return best;
 }
 
-Vec2 arc_point(const WallShape& arc, double angle) {
-  return arc.a + arc.radius * Vec2(std::cos(angle), std::sin(angle));
+Vector arc_point(const WallShape& arc, double angle) {
+  return arc.a + arc.radius * Vector(std::cos(angle), std::sin(angle));
 }
 
 namespace {
@@ -85,32 +85,32 @@ template <class Visit>
 void arc_extremes(const WallShape& arc, Visit visit) {
   for (int quarter = 0; quarter < 4; ++quarter) {
     const double angle = quarter * M_PI / 2;
-    const Vec2 direction(quarter == 0 ? 1.0 : quarter == 2 ? -1.0 : 0.0, quarter == 1 ? 1.0 : quarter == 3 ? -1.0 : 0.0);
-    if (arc_contains(arc.start_angle, arc.sweep, direction)) visit(angle, Vec2(arc.a + arc.radius * direction));
+    const Vector direction(quarter == 0 ? 1.0 : quarter == 2 ? -1.0 : 0.0, quarter == 1 ? 1.0 : quarter == 3 ? -1.0 : 0.0);
+    if (arc_contains(arc.start_angle, arc.sweep, direction)) visit(angle, Vector(arc.a + arc.radius * direction));
   }
 }
 }  // namespace
 
-void arc_bounds(const WallShape& arc, Vec2& lo, Vec2& hi) {
+void arc_bounds(const WallShape& arc, Vector& lo, Vector& hi) {
   if (arc.sweep >= 2 * M_PI) {
-    lo = arc.a - Vec2::Constant(arc.radius);
-    hi = arc.a + Vec2::Constant(arc.radius);
+    lo = arc.a - Vector::Constant(arc.radius);
+    hi = arc.a + Vector::Constant(arc.radius);
     return;
   }
   lo = hi = arc_point(arc, arc.start_angle);
-  const Vec2 last = arc_point(arc, arc.start_angle + arc.sweep);
+  const Vector last = arc_point(arc, arc.start_angle + arc.sweep);
   lo = lo.cwiseMin(last);
   hi = hi.cwiseMax(last);
-  arc_extremes(arc, [&](double, const Vec2& p) {
+  arc_extremes(arc, [&](double, const Vector& p) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   });
 }
 
-double arc_rectangle_distance(const WallShape& arc, const Vec2& lo, const Vec2& hi) {
+double arc_rectangle_distance(const WallShape& arc, const Vector& lo, const Vector& hi) {
   const bool full = arc.sweep >= 2 * M_PI;
-  const Vec2 first = arc_point(arc, arc.start_angle);
-  const Vec2 last = arc_point(arc, arc.start_angle + arc.sweep);
+  const Vector first = arc_point(arc, arc.start_angle);
+  const Vector last = arc_point(arc, arc.start_angle + arc.sweep);
   if (!full && (point_rectangle_distance(first, lo, hi) == 0 || point_rectangle_distance(last, lo, hi) == 0)) return 0.0;
   // Does the arc cross a side of the rectangle? The circle meets the line x = X (or y = Y) where
   // the other coordinate is the centre's +- sqrt(radius^2 - (X - centre)^2).
@@ -121,7 +121,7 @@ double arc_rectangle_distance(const WallShape& arc, const Vec2& lo, const Vec2& 
       const double half = arc.radius * arc.radius - offset * offset;
       if (half < 0) continue;
       for (const double sign : {-1.0, 1.0}) {
-        Vec2 d;
+        Vector d;
         d[axis] = offset;
         d[other] = sign * std::sqrt(half);
         const double along = arc.a[other] + d[other];
@@ -131,28 +131,28 @@ double arc_rectangle_distance(const WallShape& arc, const Vec2& lo, const Vec2& 
   }
   // Apart: the closest pair is an end point of the arc with the rectangle, a corner with the arc,
   // or a point of the arc where its normal is parallel to a side (its extremes in x and y).
-  auto to_arc = [&](const Vec2& p) {
+  auto to_arc = [&](const Vector& p) {
     const WallShape& wall = arc;
     return (closest_point(wall, p) - p).norm();
   };
   double best = kNever;
   if (!full) best = std::min(point_rectangle_distance(first, lo, hi), point_rectangle_distance(last, lo, hi));
-  for (const Vec2& corner : {lo, Vec2(hi.x(), lo.y()), hi, Vec2(lo.x(), hi.y())}) best = std::min(best, to_arc(corner));
-  arc_extremes(arc, [&](double, const Vec2& p) { best = std::min(best, point_rectangle_distance(p, lo, hi)); });
+  for (const Vector& corner : {lo, Vector(hi.x(), lo.y()), hi, Vector(lo.x(), hi.y())}) best = std::min(best, to_arc(corner));
+  arc_extremes(arc, [&](double, const Vector& p) { best = std::min(best, point_rectangle_distance(p, lo, hi)); });
   return best;
 }
 
-bool inside_pieces(const std::vector<WallShape>& pieces, const Vec2& p) {
+bool inside_pieces(const std::vector<WallShape>& pieces, const Vector& p) {
   bool inside = false;
   // One y-monotone piece from u to v: crossed if its ends lie on either side of the ray's line
   // (an end exactly on it counts as below, as in inside_polygon), at x = x_at.
-  auto cross_piece = [&](const Vec2& u, const Vec2& v, auto x_at) {
+  auto cross_piece = [&](const Vector& u, const Vector& v, auto x_at) {
     if ((u.y() > p.y()) != (v.y() > p.y()) && p.x() < x_at()) inside = !inside;
   };
   for (const WallShape& piece : pieces) {
     if (piece.kind == WallKind::Segment) {
-      const Vec2& u = piece.a;
-      const Vec2& v = piece.b;
+      const Vector& u = piece.a;
+      const Vector& v = piece.b;
       cross_piece(u, v, [&] { return (u.x() - v.x()) * (p.y() - v.y()) / (u.y() - v.y()) + v.x(); });
       continue;
     }
@@ -160,8 +160,8 @@ bool inside_pieces(const std::vector<WallShape>& pieces, const Vec2& p) {
     // Split at the highest and lowest points of the circle (angles pi/2 + k pi) inside the arc.
     const double end = piece.start_angle + piece.sweep;
     double from = piece.start_angle;
-    const Vec2 first = arc_point(piece, from);
-    Vec2 u = first;
+    const Vector first = arc_point(piece, from);
+    Vector u = first;
     while (from < end) {
       double to = (std::floor((from - M_PI / 2) / M_PI) + 1) * M_PI + M_PI / 2;  // next split after `from`
       if (to <= from) to += M_PI;
@@ -170,7 +170,7 @@ bool inside_pieces(const std::vector<WallShape>& pieces, const Vec2& p) {
       // A whole circle ends exactly where it starts: arc_point(start + 2 pi) differs from it by
       // rounding, which would leave a band of one ulp in y that the ray crosses once only (a point
       // there taken for inside an obstacle).
-      const Vec2 v = last ? (piece.sweep >= 2 * M_PI ? first : arc_point(piece, end)) : arc_point(piece, to);
+      const Vector v = last ? (piece.sweep >= 2 * M_PI ? first : arc_point(piece, end)) : arc_point(piece, to);
       const double side = std::cos(0.5 * (from + to)) >= 0 ? 1.0 : -1.0;  // right or left half
       cross_piece(u, v, [&] {
         const double dy = p.y() - piece.a.y();
@@ -183,7 +183,7 @@ bool inside_pieces(const std::vector<WallShape>& pieces, const Vec2& p) {
   return inside;
 }
 
-bool inside_polygon(const Points& vertices, const Vec2& p) {
+bool inside_polygon(const Coordinates& vertices, const Vector& p) {
   bool inside = false;
   const Eigen::Index n = vertices.rows();
   for (Eigen::Index k = 0, previous = n - 1; k < n; previous = k++) {

@@ -11,7 +11,7 @@ namespace billiard::stepping {
 namespace {
 
 
-void require_finite(const Vec2& v, const char* call, const char* name) {
+void require_finite(const Vector& v, const char* call, const char* name) {
   if (!std::isfinite(v.x()) || !std::isfinite(v.y())) {
     throw std::invalid_argument(describe(call, ": ", name, " = ", v, " must be finite"));
   }
@@ -25,8 +25,8 @@ void require_size(double x, const char* call, const char* name) {
 
 class Circle final : public LevelSet {
  public:
-  Circle(const Vec2& centre, double radius) : centre_(centre), radius_(radius) {}
-  Eigen::VectorXd values(const Points& p) const override {
+  Circle(const Vector& centre, double radius) : centre_(centre), radius_(radius) {}
+  Eigen::VectorXd values(const Coordinates& p) const override {
     Eigen::VectorXd w(p.rows());
     for (Eigen::Index i = 0; i < p.rows(); ++i) {
       const double dx = p(i, 0) - centre_.x(), dy = p(i, 1) - centre_.y();
@@ -34,8 +34,8 @@ class Circle final : public LevelSet {
     }
     return w;
   }
-  Points gradients(const Points& p) const override {
-    Points g(p.rows(), 2);
+  Coordinates gradients(const Coordinates& p) const override {
+    Coordinates g(p.rows(), 2);
     for (Eigen::Index i = 0; i < p.rows(); ++i) {
       const double dx = p(i, 0) - centre_.x(), dy = p(i, 1) - centre_.y();
       const double r = std::sqrt(dx * dx + dy * dy);
@@ -47,14 +47,14 @@ class Circle final : public LevelSet {
   }
 
  private:
-  Vec2 centre_;
+  Vector centre_;
   double radius_;
 };
 
 class Ellipse final : public LevelSet {
  public:
-  Ellipse(const Vec2& centre, const Vec2& semi_axes) : centre_(centre), semi_axes_(semi_axes) {}
-  Eigen::VectorXd values(const Points& p) const override {
+  Ellipse(const Vector& centre, const Vector& semi_axes) : centre_(centre), semi_axes_(semi_axes) {}
+  Eigen::VectorXd values(const Coordinates& p) const override {
     Eigen::VectorXd w(p.rows());
     for (Eigen::Index i = 0; i < p.rows(); ++i) {
       const double u = (p(i, 0) - centre_.x()) / semi_axes_.x(), v = (p(i, 1) - centre_.y()) / semi_axes_.y();
@@ -62,8 +62,8 @@ class Ellipse final : public LevelSet {
     }
     return w;
   }
-  Points gradients(const Points& p) const override {
-    Points g(p.rows(), 2);
+  Coordinates gradients(const Coordinates& p) const override {
+    Coordinates g(p.rows(), 2);
     for (Eigen::Index i = 0; i < p.rows(); ++i) {
       g(i, 0) = -2.0 * (p(i, 0) - centre_.x()) / (semi_axes_.x() * semi_axes_.x());
       g(i, 1) = -2.0 * (p(i, 1) - centre_.y()) / (semi_axes_.y() * semi_axes_.y());
@@ -72,21 +72,21 @@ class Ellipse final : public LevelSet {
   }
 
  private:
-  Vec2 centre_;
-  Vec2 semi_axes_;
+  Vector centre_;
+  Vector semi_axes_;
 };
 
 class Box final : public LevelSet {
  public:
-  Box(const Vec2& lower, const Vec2& upper) : lower_(lower), upper_(upper) {}
-  Eigen::VectorXd values(const Points& p) const override {
+  Box(const Vector& lower, const Vector& upper) : lower_(lower), upper_(upper) {}
+  Eigen::VectorXd values(const Coordinates& p) const override {
     Eigen::VectorXd w(p.rows());
     for (Eigen::Index i = 0; i < p.rows(); ++i) w[i] = distances(p(i, 0), p(i, 1))[nearest(p(i, 0), p(i, 1))];
     return w;
   }
-  Points gradients(const Points& p) const override {
+  Coordinates gradients(const Coordinates& p) const override {
     static const double kNormals[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
-    Points g(p.rows(), 2);
+    Coordinates g(p.rows(), 2);
     for (Eigen::Index i = 0; i < p.rows(); ++i) {
       const int face = nearest(p(i, 0), p(i, 1));
       g(i, 0) = kNormals[face][0];
@@ -109,26 +109,26 @@ class Box final : public LevelSet {
     return face;
   }
 
-  Vec2 lower_;
-  Vec2 upper_;
+  Vector lower_;
+  Vector upper_;
 };
 
 }  // namespace
 
-std::shared_ptr<const LevelSet> circle(const Vec2& centre, double radius) {
+std::shared_ptr<const LevelSet> circle(const Vector& centre, double radius) {
   require_finite(centre, "circle", "centre");
   require_size(radius, "circle", "radius");
   return std::make_shared<Circle>(centre, radius);
 }
 
-std::shared_ptr<const LevelSet> ellipse(const Vec2& centre, const Vec2& semi_axes) {
+std::shared_ptr<const LevelSet> ellipse(const Vector& centre, const Vector& semi_axes) {
   require_finite(centre, "ellipse", "centre");
   require_size(semi_axes.x(), "ellipse", "semi_axes.x");
   require_size(semi_axes.y(), "ellipse", "semi_axes.y");
   return std::make_shared<Ellipse>(centre, semi_axes);
 }
 
-std::shared_ptr<const LevelSet> box(const Vec2& lower, const Vec2& upper) {
+std::shared_ptr<const LevelSet> box(const Vector& lower, const Vector& upper) {
   require_finite(lower, "box", "lower");
   require_finite(upper, "box", "upper");
   if (!(upper.x() > lower.x()) || !(upper.y() > lower.y())) {

@@ -17,29 +17,29 @@ using Index = Eigen::Index;
 
 
 // A level set's answer, checked: one finite value (or gradient) per point.
-Eigen::VectorXd checked_values(const LevelSet& part, int k, const Points& points) {
+Eigen::VectorXd checked_values(const LevelSet& part, int k, const Coordinates& points) {
   Eigen::VectorXd w = part.values(points);
   if (w.size() != points.rows()) {
     throw std::invalid_argument(describe("domain part ", k, " returned ", w.size(), " values of omega for ", points.rows(), " points"));
   }
   for (Index i = 0; i < w.size(); ++i) {
     if (!std::isfinite(w[i])) {
-      throw std::invalid_argument(describe("domain part ", k, " returned omega = ", w[i], " at ", Vec2(points(i, 0), points(i, 1)),
+      throw std::invalid_argument(describe("domain part ", k, " returned omega = ", w[i], " at ", Vector(points(i, 0), points(i, 1)),
                                            ": omega must be finite"));
     }
   }
   return w;
 }
 
-Points checked_gradients(const LevelSet& part, int k, const Points& points) {
-  Points g = part.gradients(points);
+Coordinates checked_gradients(const LevelSet& part, int k, const Coordinates& points) {
+  Coordinates g = part.gradients(points);
   if (g.rows() != points.rows()) {
     throw std::invalid_argument(describe("domain part ", k, " returned ", g.rows(), " gradients for ", points.rows(), " points"));
   }
   for (Index i = 0; i < g.rows(); ++i) {
     if (!std::isfinite(g(i, 0)) || !std::isfinite(g(i, 1))) {
-      throw std::invalid_argument(describe("domain part ", k, " returned the gradient ", Vec2(g(i, 0), g(i, 1)), " at ",
-                                           Vec2(points(i, 0), points(i, 1)), ": gradients must be finite"));
+      throw std::invalid_argument(describe("domain part ", k, " returned the gradient ", Vector(g(i, 0), g(i, 1)), " at ",
+                                           Vector(points(i, 0), points(i, 1)), ": gradients must be finite"));
     }
   }
   return g;
@@ -48,7 +48,7 @@ Points checked_gradients(const LevelSet& part, int k, const Points& points) {
 // The particles `who` at `points` (row j for particle who[j]): each particle's part becomes the
 // one it is in (its own if still inside, else the first part that contains it). Returns the rows
 // j that are outside every part. One call per part, for all the points at once.
-std::vector<Index> update_parts(const Domain& domain, const Points& points, const std::vector<Index>& who,
+std::vector<Index> update_parts(const Domain& domain, const Coordinates& points, const std::vector<Index>& who,
                                 std::vector<int>& parts) {
   std::vector<Eigen::VectorXd> w;
   w.reserve(domain.size());
@@ -75,8 +75,8 @@ std::vector<Index> update_parts(const Domain& domain, const Points& points, cons
 
 // omega (when `values` is given) and its gradient at row j of `points`, each evaluated by the
 // part parts[who[j]]: one call per part for all its particles.
-void evaluate_own_parts(const Domain& domain, const Points& points, const std::vector<Index>& who, const std::vector<int>& parts,
-                        Eigen::VectorXd* values, Points& gradients) {
+void evaluate_own_parts(const Domain& domain, const Coordinates& points, const std::vector<Index>& who, const std::vector<int>& parts,
+                        Eigen::VectorXd* values, Coordinates& gradients) {
   if (values) values->resize(points.rows());
   gradients.resize(points.rows(), 2);
   for (std::size_t k = 0; k < domain.size(); ++k) {
@@ -85,9 +85,9 @@ void evaluate_own_parts(const Domain& domain, const Points& points, const std::v
       if (parts[static_cast<std::size_t>(who[j])] == static_cast<int>(k)) rows.push_back(static_cast<Index>(j));
     }
     if (rows.empty()) continue;
-    Points subset(static_cast<Index>(rows.size()), 2);
+    Coordinates subset(static_cast<Index>(rows.size()), 2);
     for (std::size_t r = 0; r < rows.size(); ++r) subset.row(static_cast<Index>(r)) = points.row(rows[r]);
-    const Points g = checked_gradients(*domain[k], static_cast<int>(k), subset);
+    const Coordinates g = checked_gradients(*domain[k], static_cast<int>(k), subset);
     const Eigen::VectorXd w = values ? checked_values(*domain[k], static_cast<int>(k), subset) : Eigen::VectorXd();
     for (std::size_t r = 0; r < rows.size(); ++r) {
       gradients.row(rows[r]) = g.row(static_cast<Index>(r));
@@ -96,19 +96,19 @@ void evaluate_own_parts(const Domain& domain, const Points& points, const std::v
   }
 }
 
-Points rows_of(const Points& points, const std::vector<Index>& rows) {
-  Points out(static_cast<Index>(rows.size()), 2);
+Coordinates rows_of(const Coordinates& points, const std::vector<Index>& rows) {
+  Coordinates out(static_cast<Index>(rows.size()), 2);
   for (std::size_t r = 0; r < rows.size(); ++r) out.row(static_cast<Index>(r)) = points.row(rows[r]);
   return out;
 }
 
 }  // namespace
 
-Eigen::VectorXd energies(const StepperState& state, const Vec2& gravity) {
-  return 0.5 * state.velocities.rowwise().squaredNorm() - state.positions * gravity;
+Eigen::VectorXd energies(const StepperState& state, const Vector& gravity) {
+  return 0.5 * state.velocities.rowwise().squaredNorm() - state.positions * gravity.transpose();
 }
 
-Stepper::Stepper(Domain domain, const Points& positions, const Points& velocities, double dt, const Vec2& gravity,
+Stepper::Stepper(Domain domain, const Coordinates& positions, const Velocities& velocities, double dt, const Vector& gravity,
                  Integrator integrator)
     : domain_(std::move(domain)), dt_(dt), gravity_(gravity), integrator_(integrator) {
   if (domain_.empty()) throw std::invalid_argument("Stepper: domain has no parts; give at least one level set");
@@ -123,10 +123,10 @@ Stepper::Stepper(Domain domain, const Points& positions, const Points& velocitie
   }
   for (Index i = 0; i < positions.rows(); ++i) {
     if (!positions.row(i).allFinite()) {
-      throw std::invalid_argument(describe("Stepper: positions row ", i, " = ", Vec2(positions(i, 0), positions(i, 1)), " must be finite"));
+      throw std::invalid_argument(describe("Stepper: positions row ", i, " = ", Vector(positions(i, 0), positions(i, 1)), " must be finite"));
     }
     if (!velocities.row(i).allFinite()) {
-      throw std::invalid_argument(describe("Stepper: velocities row ", i, " = ", Vec2(velocities(i, 0), velocities(i, 1)), " must be finite"));
+      throw std::invalid_argument(describe("Stepper: velocities row ", i, " = ", Vector(velocities(i, 0), velocities(i, 1)), " must be finite"));
     }
   }
   initial_.positions = positions;
@@ -138,7 +138,7 @@ Stepper::Stepper(Domain domain, const Points& positions, const Points& velocitie
   const std::vector<Index> outside = update_parts(domain_, positions, all, initial_.parts);
   if (!outside.empty()) {
     const Index i = outside.front();
-    throw std::invalid_argument(describe("Stepper: positions row ", i, " = ", Vec2(positions(i, 0), positions(i, 1)),
+    throw std::invalid_argument(describe("Stepper: positions row ", i, " = ", Vector(positions(i, 0), positions(i, 1)),
                                          " is outside the domain (omega <= 0 for every part); particles must start inside"));
   }
   state_ = initial_;
@@ -150,58 +150,58 @@ void Stepper::one_step(StepperState& s, std::int64_t& unresolved) const {
   // interpolation lies on the path the particle actually takes during the step.
   const double first_kick = integrator_ == Integrator::Leapfrog ? 0.5 * dt_ : 0.0;
   const double second_kick = integrator_ == Integrator::Leapfrog ? 0.5 * dt_ : dt_;
-  Points v = s.velocities;
-  v.rowwise() += (first_kick * gravity_).transpose();
-  Points end = s.positions + dt_ * v;
+  Coordinates v = s.velocities;
+  v.rowwise() += (first_kick * gravity_);
+  Coordinates end = s.positions + dt_ * v;
 
   std::vector<Index> all(static_cast<std::size_t>(n));
   for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<Index>(i);
   std::vector<Index> pending;  // particles whose drift ends outside: indices into the state
   for (const Index j : update_parts(domain_, end, all, s.parts)) pending.push_back(j);
   // v_i = v_i - 2 (v_i . n) n with n = gradient / |gradient|, if v_i . n < 0 (moving outward).
-  const auto reflect = [&](const Vec2& gradient, Index i) {
+  const auto reflect = [&](const Vector& gradient, Index i) {
     const double length = gradient.norm();
     if (!(length > 0)) return false;
-    const Vec2 unit = gradient / length;
-    const double vn = v.row(i).dot(unit.transpose());
+    const Vector unit = gradient / length;
+    const double vn = v.row(i).dot(unit);
     if (!(vn < 0)) return false;
-    v.row(i) -= 2 * vn * unit.transpose();
+    v.row(i) -= 2 * vn * unit;
     ++s.reflections[static_cast<std::size_t>(i)];
     return true;
   };
-  Points start = rows_of(s.positions, pending);  // where each pending drift begins
+  Coordinates start = rows_of(s.positions, pending);   // where each pending drift begins
   std::vector<double> remaining(pending.size(), dt_);  // and how long it lasts
 
   for (int round = 0; round < kMaxReflectionsPerStep && !pending.empty(); ++round) {
     const auto m = static_cast<Index>(pending.size());
     Eigen::VectorXd w;
-    Points grad;
+    Coordinates grad;
     evaluate_own_parts(domain_, start, pending, s.parts, &w, grad);
-    Points crossing(m, 2);
+    Coordinates crossing(m, 2);
     for (Index j = 0; j < m; ++j) {
       const Index i = pending[static_cast<std::size_t>(j)];
-      const Vec2 d = v.row(i).transpose() * remaining[static_cast<std::size_t>(j)];
-      double lambda = -w[j] / d.dot(grad.row(j).transpose());
+      const Vector d = v.row(i) * remaining[static_cast<std::size_t>(j)];
+      double lambda = -w[j] / d.dot(grad.row(j));
       // A start on or beyond the boundary, or a gradient along the path that says the particle
       // does not leave (a corner, a second crossing): reflect where the drift begins.
       if (!(lambda > 0)) lambda = 0;
       if (lambda > 1) lambda = 1;
-      crossing.row(j) = start.row(j) + lambda * d.transpose();
+      crossing.row(j) = start.row(j) + lambda * d;
       remaining[static_cast<std::size_t>(j)] *= 1 - lambda;
     }
     // Reflected about the normal at the crossing. Only a particle moving outward is turned back;
     // if the normal there says it moves inward although its drift ends outside (at a corner,
     // where the nearest face changes along the drift), the normal at the drift's end decides.
-    Points normal;
+    Coordinates normal;
     evaluate_own_parts(domain_, crossing, pending, s.parts, nullptr, normal);
     std::vector<Index> unreflected;
     std::vector<bool> reflected(pending.size(), true);
     for (Index j = 0; j < m; ++j) {
       const Index i = pending[static_cast<std::size_t>(j)];
-      if (!reflect(normal.row(j).transpose(), i)) unreflected.push_back(j);
+      if (!reflect(normal.row(j), i)) unreflected.push_back(j);
     }
     if (!unreflected.empty()) {
-      Points ends(static_cast<Index>(unreflected.size()), 2);
+      Coordinates ends(static_cast<Index>(unreflected.size()), 2);
       std::vector<Index> who;
       for (std::size_t r = 0; r < unreflected.size(); ++r) {
         const Index j = unreflected[r];
@@ -209,10 +209,10 @@ void Stepper::one_step(StepperState& s, std::int64_t& unresolved) const {
         who.push_back(i);
         ends.row(static_cast<Index>(r)) = crossing.row(j) + v.row(i) * remaining[static_cast<std::size_t>(j)];
       }
-      Points end_normal;
+      Coordinates end_normal;
       evaluate_own_parts(domain_, ends, who, s.parts, nullptr, end_normal);
       for (std::size_t r = 0; r < who.size(); ++r) {
-        reflected[static_cast<std::size_t>(unreflected[r])] = reflect(end_normal.row(static_cast<Index>(r)).transpose(), who[r]);
+        reflected[static_cast<std::size_t>(unreflected[r])] = reflect(end_normal.row(static_cast<Index>(r)), who[r]);
       }
     }
     for (Index j = 0; j < m; ++j) {
@@ -241,7 +241,7 @@ void Stepper::one_step(StepperState& s, std::int64_t& unresolved) const {
     ++unresolved;
   }
 
-  v.rowwise() += (second_kick * gravity_).transpose();
+  v.rowwise() += (second_kick * gravity_);
   s.positions = std::move(end);
   s.velocities = std::move(v);
   ++s.steps;

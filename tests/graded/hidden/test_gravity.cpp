@@ -97,8 +97,8 @@ GRADED_TEST(Gravity, RandomNearGrazingArcsFindTheirFirstHit, 2, hidden) {
     t.c.row(0) = apex - T * v_apex + (T * T / 2) * g;
     t.v.row(0) = v_apex - T * g;
     if (!(t.c.row(0).norm() < L)) continue;
-    const double expected = billiard::disc_in_circle_time(t.c.row(0).transpose(), t.v.row(0).transpose(),
-                                                          t.g.transpose(), L);
+    const double expected = billiard::disc_in_circle_time(t.c.row(0), t.v.row(0),
+                                                          t.g, L);
     if (!(std::abs(expected - T) <= 0.05 * T)) continue;  // met the wall before the graze
     ++checked;
     Collision got{};

@@ -17,7 +17,7 @@
 // the library's internals (lib/src/engine/container_geometry.hpp).
 #pragma once
 
-#include "billiard/engine/vec2.hpp"
+#include "billiard/engine/plane.hpp"
 #include "billiard/engine/wall.hpp"
 
 #include <optional>
@@ -43,36 +43,36 @@ Container circular_table(double radius);
 // can be added to it.
 Container periodic_box(double width, double height);
 // The axis-aligned box [lower, upper]: four walls, discs inside.
-Container box(const Vec2& lower, const Vec2& upper);
+Container box(const Vector& lower, const Vector& upper);
 // A closed polygon (vertices N by 2, N >= 3, in order): one wall per side, discs inside.
-Container polygon(const Points& vertices);
+Container polygon(const Coordinates& vertices);
 // A stadium: two half circles of `radius` whose centres lie `length` apart on a horizontal line
 // through `centre`, joined by two straight sides of that length; discs live inside it.
-Container stadium(const Vec2& centre, double radius, double length);
+Container stadium(const Vector& centre, double radius, double length);
 // The Sinai billiard: the box [lower, upper] with a disc obstacle of obstacle_radius at its
 // middle (2 obstacle_radius below the smaller side).
-Container sinai_billiard(const Vec2& lower, const Vec2& upper, double obstacle_radius);
+Container sinai_billiard(const Vector& lower, const Vector& upper, double obstacle_radius);
 // A mushroom: a half-disc cap of cap_radius above the horizontal line through `centre` (the
 // middle of its flat side), on a rectangular stem stem_width wide (< 2 cap_radius) and
 // stem_height tall below it; discs live inside it.
-Container mushroom(const Vec2& centre, double cap_radius, double stem_width, double stem_height);
+Container mushroom(const Vector& centre, double cap_radius, double stem_width, double stem_height);
 // The union of circles (centres N by 2, radii N): its boundary is the arcs of each circle outside
 // all the others, and the points where two such arcs meet are point walls. Discs live inside it.
-Container union_of_circles(const Points& centres, const std::vector<double>& radii);
+Container union_of_circles(const Coordinates& centres, const std::vector<double>& radii);
 
 class Container {
  public:
   // ---- More walls (not in a periodic box) ----
   // A straight wall from a to b (two-sided) and its two end points; returns the segment's index
   // in walls(). End points shared with earlier segments are not duplicated.
-  int add_segment(const Vec2& a, const Vec2& b);
+  int add_segment(const Vector& a, const Vector& b);
   // A circular arc (two-sided, like a segment: discs meet it from inside its circle or from
   // outside) of `radius` about `centre`, counter-clockwise from start_angle to end_angle
   // (0 < end_angle - start_angle <= 2 pi; 2 pi is a whole circle), and its two end points;
   // returns the arc's index in walls().
-  int add_arc(const Vec2& centre, double radius, double start_angle, double end_angle);
+  int add_arc(const Vector& centre, double radius, double start_angle, double end_angle);
   // A disc obstacle: a whole circle that discs stay outside of.
-  void add_obstacle(const Vec2& centre, double radius);
+  void add_obstacle(const Vector& centre, double radius);
   // An obstacle of any outlined shape (a box, polygon, stadium, mushroom or union of circles,
   // made by the functions above, without walls of its own added): discs stay outside of it.
   void add_obstacle(const Container& shape);
@@ -83,7 +83,7 @@ class Container {
   bool has_table() const { return has_table_; }
   double table_radius() const { return table_radius_; }  // 0 without a table
   bool periodic() const { return periodic_; }
-  const Vec2& period() const { return period_; }  // width and height of the periodic box; (0, 0) if none
+  const Vector& period() const { return period_; }  // width and height of the periodic box; (0, 0) if none
 
   // ---- Saving and loading (snapshot.cpp; the format is that of Simulation::to_bytes) ----
   // The container as bytes, and back: from_bytes refuses (std::invalid_argument, naming
@@ -95,10 +95,10 @@ class Container {
   Container() = default;  // (made by the shape functions only: a container always holds discs in)
   friend Container circular_table(double);
   friend Container periodic_box(double, double);
-  friend Container polygon(const Points&);
-  friend Container stadium(const Vec2&, double, double);
-  friend Container mushroom(const Vec2&, double, double, double);
-  friend Container union_of_circles(const Points&, const std::vector<double>&);
+  friend Container polygon(const Coordinates&);
+  friend Container stadium(const Vector&, double, double);
+  friend Container mushroom(const Vector&, double, double, double);
+  friend Container union_of_circles(const Coordinates&, const std::vector<double>&);
   friend struct ContainerFields;  // (reads and writes the members below, for to_bytes)
 
   // A container of one closed outline (or a hole); end points closer than `merge` are one.
@@ -112,7 +112,7 @@ class Container {
   bool has_table_ = false;
   double table_radius_ = 0.0;
   bool periodic_ = false;
-  Vec2 period_ = Vec2::Zero();
+  Vector period_ = Vector::Zero();
   int free_walls_ = 0;  // segments and arcs added on their own, outside any outline
 };
 

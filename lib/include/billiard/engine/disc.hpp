@@ -1,7 +1,7 @@
 // Discs and snapshots of the whole system.
 #pragma once
 
-#include "billiard/engine/vec2.hpp"
+#include "billiard/engine/plane.hpp"
 #include "billiard/wall_hit.hpp"
 
 #include <Eigen/Core>
@@ -16,8 +16,8 @@ namespace billiard {
 // masses; inertia in mass x length^2; spin (angular velocity) in radians per time unit,
 // counter-clockwise positive.
 struct Disc {
-  Vec2 position = Vec2::Zero();
-  Vec2 velocity = Vec2::Zero();
+  Vector position = Vector::Zero();
+  Vector velocity = Vector::Zero();
   double radius = 1.0;                  // > 0
   double mass = 1.0;                    // > 0
   std::optional<double> inertia;        // in (0, mass radius^2] (a thin ring); unset: a uniform
@@ -28,8 +28,8 @@ struct Disc {
 // The state of all discs at one time. Row i is disc i (the id add_disc returned).
 struct State {
   double time = 0.0;
-  Points positions;         // N by 2
-  Points velocities;        // N by 2
+  Coordinates positions;    // N by 2
+  Velocities velocities;    // N by 2
   Eigen::VectorXd spins;    // N
 };
 
@@ -50,11 +50,11 @@ struct EventRecord {
   int disc = 0;
   int other = 0;
   int wall = kNoWall;
-  Vec2 position = Vec2::Zero();
-  Vec2 velocity = Vec2::Zero();
+  Vector position = Vector::Zero();
+  Vector velocity = Vector::Zero();
   double spin = 0.0;
-  Vec2 other_position = Vec2::Zero();
-  Vec2 other_velocity = Vec2::Zero();
+  Vector other_position = Vector::Zero();
+  Vector other_velocity = Vector::Zero();
   double other_spin = 0.0;
 };
 

@@ -55,8 +55,8 @@ class Replay {
   std::vector<bool> asleep_;    // fell asleep at that record (stays put until woken)
   std::size_t next_ = 0;
   double time_;                 // time of the last state produced
-  Vec2 gravity_;
-  Vec2 period_;                 // (0, 0) unless periodic
+  Vector gravity_;
+  Vector period_;               // (0, 0) unless periodic
 };
 
 }  // namespace billiard

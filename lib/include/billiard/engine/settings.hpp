@@ -11,7 +11,7 @@
 // simulation's setters of the same names.
 #pragma once
 
-#include "billiard/engine/vec2.hpp"
+#include "billiard/engine/plane.hpp"
 
 #include <optional>
 
@@ -49,7 +49,7 @@ struct Settings {
   // precise as without gravity, however long they fall) and the fall, g t^2 / 2 and g t, is
   // added to what the simulation reports; the granular model's automatic values are those
   // without gravity there (nothing rests in a periodic box).
-  Vec2 gravity = Vec2::Zero();
+  Vector gravity = Vector::Zero();
   // The default is smooth elastic discs.
   Restitution restitution;
   // The exchange rule: two discs that meet reverse their whole relative velocity, so discs of

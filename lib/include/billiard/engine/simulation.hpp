@@ -40,7 +40,7 @@
 #include "billiard/engine/container.hpp"
 #include "billiard/engine/disc.hpp"
 #include "billiard/engine/settings.hpp"
-#include "billiard/engine/vec2.hpp"
+#include "billiard/engine/plane.hpp"
 #include "billiard/engine/wall.hpp"
 
 #include <cstdint>
@@ -126,7 +126,7 @@ class Simulation {
   int add_disc(const Disc& disc);
   // Adds many discs of one radius and mass (positions and velocities N by 2); returns the index
   // of the first. All or nothing: one bad disc refuses the whole call.
-  int add_discs(const Points& positions, const Points& velocities, double radius, double mass = 1.0);
+  int add_discs(const Coordinates& positions, const Velocities& velocities, double radius, double mass = 1.0);
   // Adds n discs of one radius and mass at random places in the container, clear of the walls
   // and of every disc: random sequential addition, or, when that cannot place them all within
   // its budget (dense systems, area fraction above ~0.4), random sites of a triangular lattice,
@@ -178,7 +178,7 @@ class Simulation {
   Eigen::VectorXd radii() const;
   Eigen::VectorXd masses() const;
   Eigen::VectorXd inertias() const;   // moments of inertia (mass x length^2)
-  Vec2 gravity() const;
+  Vector gravity() const;
   Restitution restitution() const;
   bool exchange_velocities() const;
   // The granular model's values in use (automatic ones are chosen at the first advance; 0 before

@@ -5,7 +5,7 @@
 // a circle). Walls have infinite mass and inertia.
 #pragma once
 
-#include "billiard/engine/vec2.hpp"
+#include "billiard/engine/plane.hpp"
 
 namespace billiard {
 
@@ -17,8 +17,8 @@ enum class WallKind : int { Segment, Point, Circle, Arc };
 // circle), hit on either face (from inside the circle or from outside).
 struct WallShape {
   WallKind kind = WallKind::Point;
-  Vec2 a = Vec2::Zero();
-  Vec2 b = Vec2::Zero();
+  Vector a = Vector::Zero();
+  Vector b = Vector::Zero();
   double radius = 0.0;
   double start_angle = 0.0;
   double sweep = 0.0;

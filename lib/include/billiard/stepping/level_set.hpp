@@ -8,7 +8,7 @@
 // call per step. The gradient points into the region; its length does not matter.
 #pragma once
 
-#include "billiard/engine/vec2.hpp"
+#include "billiard/engine/plane.hpp"
 
 #include <Eigen/Core>
 
@@ -24,9 +24,9 @@ class LevelSet {
  public:
   virtual ~LevelSet() = default;
   // omega at each row of `points` (N by 2): a vector of N values.
-  virtual Eigen::VectorXd values(const Points& points) const = 0;
+  virtual Eigen::VectorXd values(const Coordinates& points) const = 0;
   // The gradient of omega at each row of `points`: N by 2.
-  virtual Points gradients(const Points& points) const = 0;
+  virtual Coordinates gradients(const Coordinates& points) const = 0;
 };
 
 // The union of its parts: a point is inside when any part's omega is positive.
@@ -37,13 +37,13 @@ using Domain = std::vector<std::shared_ptr<const LevelSet>>;
 //
 // Disc of `radius` about `centre`: omega = radius - |x - centre|, the signed distance to the
 // circle (gradient -(x - centre) / |x - centre|, and 0 at the centre).
-std::shared_ptr<const LevelSet> circle(const Vec2& centre, double radius);
+std::shared_ptr<const LevelSet> circle(const Vector& centre, double radius);
 // Ellipse about `centre` with semi-axes a = semi_axes.x() along x and b = semi_axes.y() along y:
 // omega = 1 - ((x - cx) / a)^2 - ((y - cy) / b)^2, smooth everywhere.
-std::shared_ptr<const LevelSet> ellipse(const Vec2& centre, const Vec2& semi_axes);
+std::shared_ptr<const LevelSet> ellipse(const Vector& centre, const Vector& semi_axes);
 // Axis-aligned box [lower, upper]: omega = the distance to the nearest face, min(x - lx, ux - x,
 // y - ly, uy - y), linear near each face; its gradient is the inward normal of the nearest face
 // (on a tie, the first in that order).
-std::shared_ptr<const LevelSet> box(const Vec2& lower, const Vec2& upper);
+std::shared_ptr<const LevelSet> box(const Vector& lower, const Vector& upper);
 
 }  // namespace billiard::stepping

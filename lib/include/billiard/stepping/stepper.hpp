@@ -3,9 +3,9 @@
 // "Time stepping in level-set domains").
 //
 //   using namespace billiard::stepping;
-//   Points x(1, 2), v(1, 2);
+//   Coordinates x(1, 2), v(1, 2);
 //   x << 0.2, 0.0;  v << 1.0, 0.5;
-//   Stepper stepper({circle({0, 0}, 1.0)}, x, v, /*dt=*/1e-3, Vec2(0, -1));
+//   Stepper stepper({circle({0, 0}, 1.0)}, x, v, /*dt=*/1e-3, Vector(0, -1));
 //   stepper.advance_to(10.0);
 //   double drift = stepper.energy() - stepper.initial_energy();
 //
@@ -19,7 +19,7 @@
 // wrong shape) leaves the stepper as it was before the call.
 #pragma once
 
-#include "billiard/engine/vec2.hpp"
+#include "billiard/engine/plane.hpp"
 #include "billiard/stepping/level_set.hpp"
 
 #include <Eigen/Core>
@@ -38,8 +38,8 @@ enum class Integrator { Leapfrog, Euler };
 struct StepperState {
   double time = 0.0;
   std::int64_t steps = 0;
-  Points positions;
-  Points velocities;
+  Coordinates positions;
+  Velocities velocities;
   std::vector<int> parts;
   std::vector<std::int64_t> reflections;
 };
@@ -53,7 +53,7 @@ class Stepper {
 
   // positions and velocities: N by 2, finite; every position strictly inside the domain (some
   // part's omega > 0). dt > 0 and finite; gravity finite. The domain has at least one part.
-  Stepper(Domain domain, const Points& positions, const Points& velocities, double dt, const Vec2& gravity = Vec2::Zero(),
+  Stepper(Domain domain, const Coordinates& positions, const Velocities& velocities, double dt, const Vector& gravity = Vector::Zero(),
           Integrator integrator = Integrator::Leapfrog);
 
   // n >= 0 steps.
@@ -70,7 +70,7 @@ class Stepper {
   double time() const { return state_.time; }
   std::int64_t steps() const { return state_.steps; }
   double dt() const { return dt_; }
-  const Vec2& gravity() const { return gravity_; }
+  const Vector& gravity() const { return gravity_; }
   Integrator integrator() const { return integrator_; }
   const Domain& domain() const { return domain_; }
   int size() const { return static_cast<int>(state_.positions.rows()); }
@@ -88,7 +88,7 @@ class Stepper {
 
   Domain domain_;
   double dt_;
-  Vec2 gravity_;
+  Vector gravity_;
   Integrator integrator_;
   StepperState initial_;
   StepperState state_;
@@ -96,6 +96,6 @@ class Stepper {
 };
 
 // E_i = |v_i|^2 / 2 - g . x_i for each particle of a state (unit mass).
-Eigen::VectorXd energies(const StepperState& state, const Vec2& gravity);
+Eigen::VectorXd energies(const StepperState& state, const Vector& gravity);
 
 }  // namespace billiard::stepping
