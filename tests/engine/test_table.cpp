@@ -11,6 +11,14 @@
 
 #include <optional>
 #include <random>
+#include <type_traits>
+
+// One name per meaning (billiard/vectors.hpp): what the engine takes and returns is what a
+// course function takes and returns, rows and all, with no conversion between them.
+static_assert(std::is_same_v<decltype(billiard::State::positions), billiard::Coordinates>);
+static_assert(std::is_same_v<decltype(billiard::State::velocities), billiard::Velocities>);
+static_assert(std::is_same_v<decltype(billiard::Disc::position), billiard::Vector>);
+static_assert(std::is_same_v<std::decay_t<decltype(billiard::Coordinates().row(0).eval())>, billiard::Vector>);
 
 using billiard::Vector;
 using engine_test::make_disc;
