@@ -50,15 +50,15 @@ class Grid {
     cells_.resize(std::size_t(side_) * side_);
   }
 
-  void insert(int i, const Eigen::RowVector2d& p) { cells_[cell_of(p)].push_back(i); }
+  void insert(int i, const Vector& p) { cells_[cell_of(p)].push_back(i); }
 
-  void remove(int i, const Eigen::RowVector2d& p) {
+  void remove(int i, const Vector& p) {
     auto& cell = cells_[cell_of(p)];
     cell.erase(std::find(cell.begin(), cell.end(), i));
   }
 
   // True if a circle centred at p would overlap a listed circle other than `ignore`.
-  bool overlaps(const Eigen::RowVector2d& p, const Coordinates& centres, int ignore) const {
+  bool overlaps(const Vector& p, const Coordinates& centres, int ignore) const {
     const int cx = column_of(p(0)), cy = column_of(p(1));
     for (int gx = std::max(cx - 1, 0); gx <= std::min(cx + 1, side_ - 1); ++gx) {
       for (int gy = std::max(cy - 1, 0); gy <= std::min(cy + 1, side_ - 1); ++gy) {
@@ -72,7 +72,7 @@ class Grid {
 
  private:
   int column_of(double x) const { return std::clamp(static_cast<int>((x + reach_) / cell_width_), 0, side_ - 1); }
-  std::size_t cell_of(const Eigen::RowVector2d& p) const {
+  std::size_t cell_of(const Vector& p) const {
     return std::size_t(column_of(p(0))) * side_ + column_of(p(1));
   }
 
@@ -82,10 +82,10 @@ class Grid {
 };
 
 // Uniformly random point in the disc of radius `reach` (rejection from the square around it).
-Eigen::RowVector2d random_point_in_disc(double reach, Rng& rng) {
+Vector random_point_in_disc(double reach, Rng& rng) {
   std::uniform_real_distribution<double> coordinate(-reach, reach);
   for (;;) {
-    const Eigen::RowVector2d p(coordinate(rng), coordinate(rng));
+    const Vector p(coordinate(rng), coordinate(rng));
     if (p.squaredNorm() <= reach * reach) return p;  // accepted with probability pi/4
   }
 }
@@ -94,7 +94,7 @@ Eigen::RowVector2d random_point_in_disc(double reach, Rng& rng) {
 bool place_one_by_one(double reach, Grid& grid, Coordinates& centres, Rng& rng) {
   for (int i = 0; i < centres.rows(); ++i) {
     int tries = 0;
-    Eigen::RowVector2d p;
+    Vector p;
     do {
       if (++tries > kTriesPerCircle) return false;
       p = random_point_in_disc(reach, rng);
@@ -106,15 +106,15 @@ bool place_one_by_one(double reach, Grid& grid, Coordinates& centres, Rng& rng) 
 }
 
 // Sites of a hexagonal lattice with the given spacing, within `reach` of the origin.
-std::vector<Eigen::RowVector2d> lattice_sites(double spacing, double reach) {
-  std::vector<Eigen::RowVector2d> sites;
+std::vector<Vector> lattice_sites(double spacing, double reach) {
+  std::vector<Vector> sites;
   const double row_height = spacing * std::sqrt(3.0) / 2;
   const int rows = static_cast<int>(reach / row_height);
   for (int r = -rows; r <= rows; ++r) {
     const double shift = (r % 2 == 0) ? 0.0 : spacing / 2;  // every other row is offset
     const int columns = static_cast<int>(reach / spacing) + 1;
     for (int c = -columns; c <= columns; ++c) {
-      const Eigen::RowVector2d p(c * spacing + shift, r * row_height);
+      const Vector p(c * spacing + shift, r * row_height);
       if (p.squaredNorm() <= reach * reach) sites.push_back(p);
     }
   }
@@ -152,8 +152,8 @@ void shake(double reach, double circle_radius, Grid& grid, Coordinates& centres,
     int accepted = 0;
     for (int move = 0; move < n; ++move) {
       const int i = pick(rng);
-      const Eigen::RowVector2d old = centres.row(i);
-      const Eigen::RowVector2d proposal = old + step * Eigen::RowVector2d(unit(rng), unit(rng));
+      const Vector old = centres.row(i);
+      const Vector proposal = old + step * Vector(unit(rng), unit(rng));
       if (proposal.squaredNorm() > reach * reach || grid.overlaps(proposal, centres, i)) continue;
       grid.remove(i, old);
       centres.row(i) = proposal;

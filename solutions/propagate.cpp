@@ -26,7 +26,7 @@ constexpr double kNever = std::numeric_limits<double>::infinity();
 // Since C <= 0 (the circle is inside) the two roots have opposite signs and we want the
 // positive one, t = (-B + sqrt(B^2 - A C)) / A. When B > 0 that formula subtracts two nearly
 // equal numbers (cancellation), so we use the equivalent t = -C / (B + sqrt(B^2 - A C)).
-double time_to_wall(const Eigen::RowVector2d& r, const Eigen::RowVector2d& v, double reach) {
+double time_to_wall(const Vector& r, const Vector& v, double reach) {
   const double A = v.squaredNorm();
   if (A == 0) return kNever;  // a circle at rest never reaches the wall
   const double B = r.dot(v);
@@ -46,7 +46,7 @@ double time_to_wall(const Eigen::RowVector2d& r, const Eigen::RowVector2d& v, do
 // earlier root, written without cancellation (Numerical Recipes 5.6), is
 // t = c / (-b + sqrt(b^2 - dv.dv c)). A pair that has just collided has c ~ 0 and b > 0, so
 // it is rejected here without any epsilon.
-double time_to_collision(const Eigen::RowVector2d& dr, const Eigen::RowVector2d& dv, double diameter) {
+double time_to_collision(const Vector& dr, const Vector& dv, double diameter) {
   const double b = dr.dot(dv);
   if (b >= 0) return kNever;  // flying apart, or moving side by side (grazing): no collision
   const double c = dr.squaredNorm() - diameter * diameter;
@@ -90,14 +90,14 @@ Collision propagate(double table_radius, double circle_radius, int n, Coordinate
   const int i = next.circle;
   if (next.other == kWall) {
     // Ideal reflection: reverse the component along the normal n = r / |r|, keep the tangent.
-    const Eigen::RowVector2d normal = coordinates.row(i).normalized();
+    const Vector normal = coordinates.row(i).normalized();
     velocities.row(i) -= 2 * velocities.row(i).dot(normal) * normal;
   } else {
     // Equal masses, smooth circles: only the velocity components along the line of centres
     // are exchanged (in 1D this is a swap of velocities; in 2D the tangential parts stay).
     const int j = next.other;
-    const Eigen::RowVector2d normal = (coordinates.row(j) - coordinates.row(i)).normalized();
-    const Eigen::RowVector2d exchange = (velocities.row(i) - velocities.row(j)).dot(normal) * normal;
+    const Vector normal = (coordinates.row(j) - coordinates.row(i)).normalized();
+    const Vector exchange = (velocities.row(i) - velocities.row(j)).dot(normal) * normal;
     velocities.row(i) -= exchange;
     velocities.row(j) += exchange;
   }
