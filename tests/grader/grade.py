@@ -209,7 +209,7 @@ def grade(arguments):
         if arguments.prepare:
             print(f"grade: the grader is ready in {arguments.build} ({own_build:.0f} s)", flush=True)
             return []
-        clocks = {task: TaskClock(limits[task]) for task in tasks}
+        clocks = {task: TaskClock(limits[task]) for task in limits}
         results = build_suites(build, compiler, staged, problems, tasks, clocks)
         cache = ResultCache(arguments.cache, limits) if arguments.cache else None
         run_tests(results, build, cells, clocks, arguments.jobs, cache)
@@ -315,21 +315,22 @@ def pid_alive(pid):
 
 
 def task_limits(arguments, build, compiler, cells, grading, tasks):
-    """{task: TaskLimits} of the graded tasks, the factor by which --total scaled the budgets down
-    (1 if not), and how many times slower this machine is than where the reference's times were
-    measured (the most of any graded task's; 1 if not slower). Limits that follow the machine come
-    from the reference's times in the build folder, measured first for the tasks that miss them."""
+    """{task: TaskLimits} (of the graded tasks; of every task with fixed limits), the factor by
+    which --total scaled the graded tasks' budgets down (1 if not), and how many times slower this
+    machine is than where the reference's times were measured (the most of any graded task's; 1 if
+    not slower). Limits that follow the machine come from the reference's times in the build
+    folder, measured first for the tasks that miss them."""
     slower = 1.0
-    if arguments.limits == "fixed":
+    if arguments.limits == "fixed":  # every task's: with the submission's code for the other tasks, each is compiled
         limits = {task: fixed_limits(task, arguments.timeout, arguments.task_budget, arguments.compile_timeout)
-                  for task in tasks}
+                  for task in TASKS}
     else:
         saved = reference_times(build, compiler, cells, grading, arguments.jobs, tasks)
         speed = time_limits.machine_speed()
         slowness = {task: time_limits.slower_than_measured(saved[task], speed) for task in tasks}
         slower = max(slowness.values())
         limits = {task: measured_limits(task, saved[task], slowness[task]) for task in tasks}
-    factor = time_limits.fit_total(limits, arguments.total) if arguments.total else 1.0
+    factor = time_limits.fit_total({task: limits[task] for task in tasks}, arguments.total) if arguments.total else 1.0
     return limits, factor, slower
 
 
