@@ -24,7 +24,7 @@ Eigen::VectorXd checked_values(const LevelSet& part, int k, const Coordinates& p
   }
   for (Index i = 0; i < w.size(); ++i) {
     if (!std::isfinite(w[i])) {
-      throw std::invalid_argument(describe("domain part ", k, " returned omega = ", w[i], " at ", Vector(points(i, 0), points(i, 1)),
+      throw std::invalid_argument(describe("domain part ", k, " returned omega = ", w[i], " at ", Vector(points.row(i)),
                                            ": omega must be finite"));
     }
   }
@@ -38,8 +38,8 @@ Coordinates checked_gradients(const LevelSet& part, int k, const Coordinates& po
   }
   for (Index i = 0; i < g.rows(); ++i) {
     if (!std::isfinite(g(i, 0)) || !std::isfinite(g(i, 1))) {
-      throw std::invalid_argument(describe("domain part ", k, " returned the gradient ", Vector(g(i, 0), g(i, 1)), " at ",
-                                           Vector(points(i, 0), points(i, 1)), ": gradients must be finite"));
+      throw std::invalid_argument(describe("domain part ", k, " returned the gradient ", Vector(g.row(i)), " at ",
+                                           Vector(points.row(i)), ": gradients must be finite"));
     }
   }
   return g;
@@ -123,10 +123,10 @@ Stepper::Stepper(Domain domain, const Coordinates& positions, const Velocities& 
   }
   for (Index i = 0; i < positions.rows(); ++i) {
     if (!positions.row(i).allFinite()) {
-      throw std::invalid_argument(describe("Stepper: positions row ", i, " = ", Vector(positions(i, 0), positions(i, 1)), " must be finite"));
+      throw std::invalid_argument(describe("Stepper: positions row ", i, " = ", Vector(positions.row(i)), " must be finite"));
     }
     if (!velocities.row(i).allFinite()) {
-      throw std::invalid_argument(describe("Stepper: velocities row ", i, " = ", Vector(velocities(i, 0), velocities(i, 1)), " must be finite"));
+      throw std::invalid_argument(describe("Stepper: velocities row ", i, " = ", Vector(velocities.row(i)), " must be finite"));
     }
   }
   initial_.positions = positions;
@@ -138,7 +138,7 @@ Stepper::Stepper(Domain domain, const Coordinates& positions, const Velocities& 
   const std::vector<Index> outside = update_parts(domain_, positions, all, initial_.parts);
   if (!outside.empty()) {
     const Index i = outside.front();
-    throw std::invalid_argument(describe("Stepper: positions row ", i, " = ", Vector(positions(i, 0), positions(i, 1)),
+    throw std::invalid_argument(describe("Stepper: positions row ", i, " = ", Vector(positions.row(i)),
                                          " is outside the domain (omega <= 0 for every part); particles must start inside"));
   }
   state_ = initial_;
