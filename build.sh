@@ -8,10 +8,14 @@
 #   ./build.sh python                       build the Python module `billiard` and make Debian's
 #                                           /usr/bin/python3 import it (for the notebooks)
 #   ./build.sh grade [grader options]       grade tasks/ per task, as the graders do (--help)
+# instructors
+#                                           with --class DIR, a whole class (also sets up Dask
+#                                           and the copy finder, Dolos, from npm)
+# /instructors
 #   ./build.sh bench [benchmark options]    build, then run the engine's benchmark (--help)
-#   ./build.sh setup                        only install the missing Debian packages (the graders'
+#   ./build.sh setup                        only install the missing packages (the graders'
 #                                           setup; root or sudo)
-# Each first installs the Debian packages the build needs (only the missing ones), then configure
+# Each first installs the system packages the build needs (only the missing ones), then configure
 # and build with CMake. `test -L LABEL` builds only what those tests need, and the labels the
 # full run leaves out (stress, platforms, contributing) run when named: ./build.sh test -L stress. Set
 # BILLIARD_PRESET to use another preset from CMakePresets.json (default: "release", the
@@ -23,10 +27,13 @@ if [ -z "${BILLIARD_PRESET:-}" ]; then
 fi
 
 usage() {
-  awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"
+  awk 'NR > 1 && /^# \/?instructors$/ { next } NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"
 }
 
-# Debian packages, by what needs them. Names are apt-get names: there is no PyPI here.
+# Debian's and Ubuntu's packages, by what needs them (apt names: there is no PyPI here; the
+# supported systems are in README.md). An entry is a package that its list's commands need, or
+# PACKAGE:FEATURE, a package that only FEATURE needs: on a system without it, build.sh says in
+# one line which feature is missing and sets up the rest.
 # The command, its tests and the grader need these (run, grade, setup):
 packages=(
   cmake ninja-build g++ gcc      # the build (gcc: the C track's task, tasks/particles.c)
@@ -34,48 +41,143 @@ packages=(
   libgtest-dev                   # the graded test suites
   libpugixml-dev                 # the XML under the graded suites' SVG reader
   libseccomp-dev                 # the grader's cells: what submitted code may not do
-  similarity-tester              # the class grader's copies and near-copies (sim_c++, sim_c)
   python3                        # the grader (tests/grader/grade.py), run as /usr/bin/python3
-  python3-yaml                   # the instructors' packaging tests read YAML (GitHub workflows)
   make                           # the Autolab package's test runs its Makefile
 )
 # The Python module and the notebooks need these as well (test, python):
 python_packages=(
-  pybind11-dev python3-dev       # the module `billiard` for Debian's /usr/bin/python3
-  python3-numpy python3-matplotlib python3-pil  # arrays, figures, GIF animations
-  ffmpeg                         # MP4 animations
+  pybind11-dev python3-dev python3-numpy  # the module `billiard` for /usr/bin/python3
   python3-pytest                 # the module's tests
-  jupyter-nbconvert python3-nbclient python3-ipykernel  # running the notebooks headless
-  python3-dask python3-distributed  # billiard.sweep: ensembles of runs on worker processes or a cluster
-  python3-gsd                    # billiard.write_trajectory: GSD files (HOOMD-blue's format, read by OVITO)
-  python3-pip python3-venv       # installing the package like a library (pip install . into a venv)
+  "python3-matplotlib:figures and animations (billiard.plot, the notebooks)"
+  "python3-pil:GIF animations"
+  "ffmpeg:MP4 animations"
+  "jupyter-nbconvert:running the notebooks headless" "python3-nbclient:running the notebooks headless"
+  "python3-ipykernel:running the notebooks headless"
+  "python3-dask:ensembles of runs on worker processes or a cluster (billiard.sweep)"
+  "python3-distributed:ensembles of runs on worker processes or a cluster (billiard.sweep)"
+  "python3-gsd:GSD trajectories (billiard.write_trajectory, HOOMD-blue's format, read by OVITO)"
+  "python3-pip:installing the package like a library (pip install . into a venv)"
+  "python3-venv:installing the package like a library (pip install . into a venv)"
 )
+# Grading a whole class needs these as well (grade --class; test, with the grader's labels); a
+# student's copy, which has no class grader, has none.
+class_packages=()
+install_copy_finder() { :; }
+# instructors
+# (tests/grader/package.py leaves each block from "# instructors" to "# /instructors" out of
+# the student release.)
+class_packages=(
+  "python3-distributed:grading a class on a Dask cluster (without it, on this machine's processors)"
+  "python3-matplotlib:the class report's figures"
+  "nodejs:the class report's near-copies (the copy finder, Dolos, runs on Node.js)"
+  "npm:the class report's near-copies (the copy finder, Dolos, comes from npm)"
+)
+# /instructors
 # The grader's tests need these as well (test, with every test or the labels grader, packages,
 # platforms, contributing):
 test_packages=(
+  "${class_packages[@]}"
   ccache                         # the tests build the sources again elsewhere (the grader's build)
-  chromium                       # the class report's test opens it in a real browser, headless
+  "chromium:the class report's test in a real browser, headless"
+  "python3-yaml:the packaging tests' reading of GitHub workflows"
+  "g++-11:the check that the code builds with GCC 11, Ubuntu 22.04's (Debian 12 has it)"
 )
 
-# install_missing_packages [PACKAGE...]: the core packages above and the given ones.
+# system_name: this system as /etc/os-release names it ("Debian GNU/Linux 13 (trixie)").
+system_name() {
+  (. /etc/os-release 2>/dev/null && echo "${PRETTY_NAME:-this system}") || echo "this system"
+}
+
+# has_candidate PACKAGE: apt can install it here (it is in this system's package lists). (grep
+# reads all of apt-cache's output: with -q it could stop early, and pipefail see apt-cache's SIGPIPE.)
+has_candidate() {
+  apt-cache policy "$1" 2>/dev/null | grep '^ *Candidate: [^(]' >/dev/null
+}
+
+# installed PACKAGE: the package is installed, or, for Node.js and npm, their commands are there
+# (NodeSource's nodejs, say, which brings its own npm and conflicts with the system's npm).
+installed() {
+  case "$1" in
+    nodejs) command -v node >/dev/null && return 0 ;;
+    npm) command -v npm >/dev/null && return 0 ;;
+  esac
+  dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep '^install ok installed$' >/dev/null
+}
+
+# install_missing_packages [ENTRY...]: the core packages above and the given entries (a package,
+# or PACKAGE:FEATURE), the missing ones only. A package this system has none of stops the set-up
+# when its list needs it, and costs only its feature otherwise: one line each says which.
 install_missing_packages() {
-  local missing=() p
-  for p in "${packages[@]}" "$@"; do
-    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q '^install ok installed$' || missing+=("$p")
+  local entry name missing=() absent=() unavailable=() sudo=()
+  declare -A feature=() required=() seen=()
+  for entry in "${packages[@]}" "$@"; do
+    name=${entry%%:*}
+    if [[ $entry == *:* ]]; then
+      feature[$name]=${feature[$name]:-${entry#*:}}
+    else
+      required[$name]=1  # a command needs it: never only a feature
+    fi
+    [ -n "${seen[$name]:-}" ] && continue
+    seen[$name]=1
+    installed "$name" || missing+=("$name")
   done
   [ ${#missing[@]} -eq 0 ] && return 0
-  local sudo=()
   if [ "$(id -u)" -ne 0 ]; then
     if command -v sudo >/dev/null; then sudo=(sudo); else
-      echo "build.sh: missing Debian packages: ${missing[*]}; install them as root with: apt-get install ${missing[*]}" >&2
+      echo "build.sh: missing packages: ${missing[*]}; install them as root with: apt-get install ${missing[*]}" >&2
       exit 2
     fi
   fi
-  echo "build.sh: installing Debian packages: ${missing[*]}"
   export DEBIAN_FRONTEND=noninteractive
-  "${sudo[@]}" apt-get update -qq
-  "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  "${sudo[@]}" apt-get update -qq || echo "build.sh: apt-get update failed: the package lists may be old" >&2
+  for name in "${missing[@]}"; do
+    if has_candidate "$name"; then
+      absent+=("$name")
+    elif [ -z "${required[$name]:-}" ]; then
+      echo "build.sh: $(system_name) has no package $name: ${feature[$name]} will be missing; setting up the rest" >&2
+    else
+      unavailable+=("$name")
+    fi
+  done
+  if [ ${#unavailable[@]} -gt 0 ]; then
+    local hint="the supported systems are Debian 12 and 13 and Ubuntu 22.04 and 24.04 (README.md)"
+    grep -qi '^ID=ubuntu' /etc/os-release 2>/dev/null && hint="on Ubuntu, enable the universe component: sudo add-apt-repository universe"
+    echo "build.sh: $(system_name) has no package ${unavailable[*]}, which the build needs; $hint" >&2
+    exit 2
+  fi
+  [ ${#absent[@]} -eq 0 ] && return 0
+  echo "build.sh: installing packages: ${absent[*]}"
+  "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${absent[@]}" >/dev/null
 }
+
+# instructors
+# The class grader's copy finder, Dolos (from npm: neither Debian nor Ubuntu packages one), at
+# the versions tests/grader/copies/package-lock.json pins, into build/copy-finder/: prebuilt,
+# no install scripts run, nothing compiled. Without it, a class report says in one line that
+# near-copies were not looked for.
+install_copy_finder() {
+  local source=tests/grader/copies home=build/copy-finder node_major
+  cmp -s "$source/package-lock.json" "$home/package-lock.json" && [ -f "$home/installed" ] && return 0
+  if ! command -v npm >/dev/null || ! command -v node >/dev/null; then
+    echo "build.sh: no Node.js and npm here: class reports will not look for near-copies" >&2
+    return 0
+  fi
+  node_major=$(node -p 'process.versions.node.split(".")[0]')
+  if [ "$node_major" -lt 18 ]; then
+    echo "build.sh: this system's Node.js is $(node --version); the copy finder (Dolos) needs 18 or newer: class reports will not look for near-copies" >&2
+    return 0
+  fi
+  rm -rf "$home"
+  mkdir -p "$home"
+  cp "$source/package.json" "$source/package-lock.json" "$home/"
+  echo "build.sh: installing the copy finder (Dolos, from npm) into $home"
+  if (cd "$home" && npm ci --ignore-scripts --legacy-peer-deps --no-audit --no-fund --loglevel=error) >"$home/npm.log" 2>&1; then
+    touch "$home/installed"
+  else
+    echo "build.sh: the copy finder could not be installed (see $home/npm.log): class reports will not look for near-copies" >&2
+  fi
+}
+# /instructors
 
 # configure: CMake's configure step, with configure_options (below) on top of the preset's.
 configure() {
@@ -223,6 +325,7 @@ case "$command" in
       configure_options=(-DBILLIARD_PYTHON=ON)  # the module and notebooks are tested: never skip them
     fi
     install_missing_packages "${wanted[@]}"
+    needs_test_packages && install_copy_finder
     configure
     student=()
     if student_run; then
@@ -268,7 +371,12 @@ case "$command" in
     exec "build/$BILLIARD_PRESET/lib/bench/billiard_bench" "$@"
     ;;
   grade)
-    install_missing_packages
+    if [[ " $* " == *" --class "* || " $* " == *" --class="* ]]; then
+      install_missing_packages "${class_packages[@]}"
+      install_copy_finder
+    else
+      install_missing_packages
+    fi
     exec /usr/bin/python3 tests/grader/grade.py "$@"
     ;;
   setup)

@@ -30,7 +30,7 @@ from pathlib import Path
 import cell
 import time_limits
 from cell import Limits, read_regular_file, run_limited
-from course import PROGRAM_TASKS, TASK_FILE, TASK_FUNCTIONS, TASKS, task_name
+from course import PROGRAM_TASKS, TASK_FILE, TASK_FUNCTIONS, TASKS, USES, task_name
 from reports import TaskResult, TestResult, cap
 
 REPO = Path(__file__).resolve().parents[2]
@@ -197,8 +197,12 @@ def defines_before_course_headers(text):
 
 
 def file_digest(path):
+    """The file's SHA-256, read a block at a time (hashlib.file_digest is Python 3.11's)."""
+    digest = hashlib.sha256()
     with open(path, "rb") as file:
-        return hashlib.file_digest(file, "sha256").hexdigest()
+        while block := file.read(1 << 20):
+            digest.update(block)
+    return digest.hexdigest()
 
 
 class Remembered:
@@ -288,8 +292,9 @@ WEAK = {"W", "V", "w", "v", "u"}
 def object_symbols(data):
     """[(name, kind)] of the global and weak symbols an ELF object file (64-bit, little-endian:
     what the grader's compiler makes) defines, kind as nm's letters ("W", "V", "u" for the weak
-    and unique ones, "T" for the others); None when the bytes are not such a file. Read here, not
-    by nm: the file is the submission's, and reading it takes no process."""
+    and unique ones, "T" for the others), and of those it uses without defining them ("U"); None
+    when the bytes are not such a file. Read here, not by nm: the file is the submission's, and
+    reading it takes no process."""
     import struct
     try:
         if data[:6] != b"\x7fELF\x02\x01":
@@ -305,10 +310,13 @@ def object_symbols(data):
             for at in range(offset, offset + size - symbol_size + 1, symbol_size):
                 name_at, info, _, section = struct.unpack_from("<IBBH", data, at)
                 binding, symbol_type = info >> 4, info & 0xF
-                if binding not in (1, 2, 10) or section == 0:  # global, weak, unique; defined
+                if binding not in (1, 2, 10) or name_at == 0:  # global, weak, unique; named
                     continue
                 end = data.index(b"\0", names_offset + name_at, names_offset + names_size)
                 name = data[names_offset + name_at:end].decode(errors="replace")
+                if section == 0:  # SHN_UNDEF: used, defined elsewhere
+                    found.append((name, "U"))
+                    continue
                 letter = "u" if binding == 10 else ("V" if symbol_type == 1 else "W") if binding == 2 else "T"
                 found.append((name, letter))
         return found
@@ -357,7 +365,7 @@ class Symbols:
         saved = build.submitted / "symbols.json"
         try:
             listed = json.loads(saved.read_text())
-            if listed["key"] != key:
+            if listed["key"] != key or "functions" not in listed:  # (a listing of an older grader)
                 raise ValueError
         except (OSError, ValueError, KeyError):
             listed = {"key": key,
@@ -366,7 +374,11 @@ class Symbols:
                       "grader": list(defined_symbols([*recipe["harness"], *recipe["libraries"]])),
                       "reference": {task: list(defined_symbols(objects)) for task, objects in recipe["tasks"].items()
                                     if isinstance(objects, list)},
-                      "own": {task: list(defined_symbols([path])) for task, path in stubs.items()}}
+                      "own": {task: list(defined_symbols([path])) for task, path in stubs.items()},
+                      # Each task's functions: what its stand-in defines strongly (not the inline
+                      # functions and templates any file may also define or call).
+                      "functions": {task: [name for name, kind in defined_symbols([path]).items() if kind not in WEAK]
+                                    for task, path in stubs.items()}}
             try:
                 write_text(saved, json.dumps(listed))
             except OSError:  # not the grader's to write (an Autolab job beside the image's build)
@@ -374,6 +386,7 @@ class Symbols:
         self.c_library, self.cxx_library, self.grader = set(listed["c"]), set(listed["cxx"]), set(listed["grader"])
         self.reference = {task: set(names) for task, names in listed["reference"].items()}
         self.own = {task: set(names) for task, names in listed["own"].items()}
+        self.functions = {task: set(names) for task, names in listed["functions"].items()}
 
     @staticmethod
     def library(compiler, name):
@@ -387,6 +400,13 @@ class Symbols:
         refused = []
         for name, kind in symbols:
             why = ""
+            if kind == "U":  # a call: of another task's functions only where course.txt allows it
+                other = next((t for t, names in self.functions.items() if t != task and name in names), None)
+                if other and other not in USES.get(task, []):
+                    why = (f"{{}}, a function of {task_name(other)}, which {TASK_FILE[task]} may not call: each task is "
+                           f"graded on its own code, so write what {task} needs in {TASK_FILE[task]} itself")
+                    refused.append((name, why))
+                continue
             if name in self.own.get(task, ()):
                 continue
             if name in ENTRY:
@@ -418,7 +438,8 @@ def refused(task, problems):
     """The message for a task file whose symbols are refused."""
     lines = "\n".join(f"  - {problem}" for problem in problems[:10])
     more = f"\n  ... and {len(problems) - 10} more" if len(problems) > 10 else ""
-    return (f"{TASK_FILE[task]} was not graded (0 points for this task): it defines what a task file may not.\n"
+    return (f"{TASK_FILE[task]} was not graded (0 points for this task): it defines or calls what a task file may "
+            "not.\n"
             f"{lines}{more}\nA task file defines {TASK_FUNCTIONS[task]}, as lib/include/billiard/course.hpp declares "
             "it, and helpers of its own (best static, or in an unnamed namespace); nothing else.")
 
@@ -479,13 +500,17 @@ class TaskFileCompiler:
 
     def link_pieces(self):
         """The worker's pieces, put where the cells may read them: {"harness": [...], "libraries":
-        [...], task: [...] (reference code)}, each with its digest."""
+        [...], task: [...] (reference code), "stand-in-" + task: [its stand-in]}, each with its
+        digest."""
         if self.symbols is None:
             return {}
         recipe = self.build.worker_recipe
         pieces = {}
+        stand_ins = [(f"stand-in-{task}", [str(path)]) for task, path in self.build.stubs.items()
+                     if task not in PROGRAM_TASKS]
         for group, paths in [("harness", recipe["harness"]), ("libraries", recipe["libraries"]),
-                             *[(task, objects) for task, objects in recipe["tasks"].items() if isinstance(objects, list)]]:
+                             *[(task, objects) for task, objects in recipe["tasks"].items() if isinstance(objects, list)],
+                             *stand_ins]:
             folder = cell.own_folder(self.cells.objects / group, None, 0o755)
             pieces[group] = []
             for number, path in enumerate(paths):
@@ -619,7 +644,10 @@ class TaskFileCompiler:
                       processes=BUILD_PROCESSES)
 
     def link(self, task, limit):
-        """Links a C++ task's worker in its cell; returns (problem or "", seconds spent)."""
+        """Links a C++ task's worker in its cell; returns (problem or "", seconds spent). With the
+        reference code, a worker holds only that of the tasks course.txt lets this one use (and its
+        suite calls: movie's, propagate): every other task is its stand-in, so no other task's
+        reference code is in the worker's process to be reached, by a call or otherwise."""
         recipe = self.build.worker_recipe
         own = self.compiled(task)
         objects = [(own, file_digest(own))]
@@ -628,8 +656,10 @@ class TaskFileCompiler:
                 continue
             if recipe["tasks"][other] == "submitted":
                 objects.append((self.compiled(other), file_digest(self.compiled(other))))
-            else:
+            elif other in USES[task]:
                 objects += self.pieces[other]
+            else:
+                objects += self.pieces[f"stand-in-{other}"]
         pieces = [*self.pieces["harness"], *objects, *self.pieces["libraries"]]
         words = [recipe["compiler"], *recipe["flags"], *[str(path) for path, _ in pieces], "-o", "worker"]
         key = hashlib.sha256(json.dumps([words[:2], [digest for _, digest in pieces], self.protection]).encode()).hexdigest()

@@ -7,17 +7,22 @@ What confines a cell, by what the machine allows (grade.py prints which are in f
     no shared memory or message queues, no namespaces, and for a test's worker no new processes;
   - Landlock, where the kernel has it: the cell reads the system's program folders and the paths
     it is given, writes only its own folder, opens no TCP connection, signals nothing outside;
-  - as root: a user id of its own per cell, from a pool that concurrent gradings share without
-    overlap (a lock file per id), so the kernel itself keeps cells apart; at its end every process
-    of that user is stopped and its files in the machine's shared folders (/tmp, /dev/shm, ...)
-    removed, and the judges run under another id than any cell.
+  - as root: a user id of its own per cell, drawn at random from a range far above real users'
+    and claimed on the kernel, not in a folder (UserIds), so that concurrent gradings never share
+    one, not even from two roots (a chroot, a container) on one kernel: the kernel itself keeps
+    cells apart; at its end every process of that user is stopped and its files in the machine's
+    shared folders (/tmp, /dev/shm, ...) removed, and the judges run under another id than any cell.
 """
 
 import dataclasses
+import errno
 import fcntl
 import os
+import re
+import secrets
 import select
 import shutil
+import socket
 import stat
 import subprocess
 import tempfile
@@ -25,9 +30,14 @@ import threading
 from dataclasses import dataclass
 from pathlib import Path
 
-# User ids the grader gives its cells as root: far above the ranges of real and system users.
+# User ids the grader gives its cells as root: far above the ranges of real and system users,
+# below 2^31 (which some tools read as negative). Each is drawn at random among them.
 FIRST_CELL_USER = 1_900_000_000
-CELL_USERS = 100_000
+CELL_USERS = 200_000_000
+# The kernel-wide claim of a user id: an abstract Unix socket of this name, bound while the id is
+# held. Its names are one per network namespace, which a chroot shares with the machine (unlike
+# /run, where the lock files are); the kernel frees it when its holder ends, however it ends.
+CLAIM_NAME = "billiard-grader-user-{uid}"
 # Folders every user may write to, where a cell's files could outlive it (without Landlock).
 SHARED_FOLDERS = ["/tmp", "/var/tmp", "/dev/shm", "/dev/mqueue", "/run/lock", "/var/lock"]
 
@@ -83,43 +93,132 @@ def pool_folder():
 
 
 class UserIds:
-    """User ids for the cells of one grading, each held (a lock file, released when this process
-    ends, however it ends) until release(), so that concurrent gradings never share one. An id is
-    cleared (its processes stopped, its files in the shared folders removed) when it is given
-    back, and when taken after a grading that was killed before it could give it back (its lock
-    file says it was in use)."""
+    """User ids for the cells of one grading, each held until release(), so that concurrent
+    gradings never share one: on this machine and from other roots on its kernel (a chroot, a
+    container). An id is drawn at random, and taken only if
+
+      - its kernel-wide claim (an abstract socket, CLAIM_NAME) is free: no grading of this
+        network namespace holds it, a chroot's included;
+      - no process visible here runs under it (a grading of a container whose claims are apart);
+
+    then its lock file in the pool folder marks it in use until release() stops its processes,
+    removes its files and the lock file. A lock file left without its claim is a grading killed
+    before it could give its ids back: the next grading clears those ids (clear_abandoned)."""
 
     def __init__(self, launcher):
         self.launcher = launcher
-        self.held = {}  # uid -> open lock file
+        self.held = {}  # uid -> (open lock file, claim socket or None)
+        self.cleared = False  # the ids killed gradings left: cleared once, at the first take()
+
+    @staticmethod
+    def candidates():
+        """The ids to try, in order (random; a test replaces this)."""
+        while True:
+            yield FIRST_CELL_USER + secrets.randbelow(CELL_USERS)
 
     def take(self):
         folder = pool_folder()
-        for uid in range(FIRST_CELL_USER, FIRST_CELL_USER + CELL_USERS):
-            if uid in self.held:
+        if not self.cleared:
+            self.clear_abandoned(folder)
+            self.cleared = True
+        for _, uid in zip(range(1000), self.candidates()):
+            if uid in self.held or user_runs_processes(uid):
                 continue
-            lock = open(folder / f"{uid}.lock", "a+")
-            try:
-                fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except OSError:
-                lock.close()
+            claim = claim_user(uid)
+            if claim is False:
                 continue
-            lock.seek(0)
-            if lock.read():  # left in use by a grading that was killed
-                clear_user(self.launcher, uid)
+            lock = open_lock(folder, uid)
+            if lock is None:
+                if claim:
+                    claim.close()
+                continue
             lock.truncate(0)
             lock.write("in use\n")
             lock.flush()
-            self.held[uid] = lock
+            self.held[uid] = (lock, claim)
             return uid
-        raise RuntimeError("every user id of the grader's pool is in use")
+        raise RuntimeError("no free user id for the grader's cells after 1000 tries")
+
+    def clear_abandoned(self, folder):
+        """Clears the ids whose lock file a killed grading left: its processes and files."""
+        for path in folder.glob("*.lock"):
+            match = re.fullmatch(r"(\d+)\.lock", path.name)
+            if not match:
+                continue
+            uid = int(match[1])
+            claim = claim_user(uid)
+            if claim is False:
+                continue  # held: by a grading that runs
+            lock = open_lock(folder, uid, create=False)
+            if lock is not None:
+                clear_user(self.launcher, uid)
+                path.unlink(missing_ok=True)
+                lock.close()
+            if claim:
+                claim.close()
 
     def release(self):
         clear_users(self.launcher, list(self.held))
-        for lock in self.held.values():
-            lock.truncate(0)
+        folder = pool_folder()
+        for uid, (lock, claim) in self.held.items():
+            (folder / f"{uid}.lock").unlink(missing_ok=True)  # while it is locked: see open_lock
             lock.close()
+            if claim:
+                claim.close()
         self.held = {}
+
+
+def claim_user(uid):
+    """The kernel-wide claim of user id `uid` (CLAIM_NAME): a bound socket, to keep open while
+    the id is held; False if another process holds it; None where this machine allows no such
+    socket (the lock files alone then keep the gradings of this root apart)."""
+    claim = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    try:
+        claim.bind("\0" + CLAIM_NAME.format(uid=uid))
+        return claim
+    except OSError as error:
+        claim.close()
+        return False if error.errno == errno.EADDRINUSE else None
+
+
+def open_lock(folder, uid, create=True):
+    """The lock file of `uid`, open and locked, or None if another grading holds it (or, without
+    `create`, if there is none). A lock file is removed while locked, so one opened before its
+    removal no longer is the path's file: then it does not count."""
+    path = folder / f"{uid}.lock"
+    try:
+        descriptor = os.open(path, os.O_RDWR | (os.O_CREAT if create else 0) | os.O_CLOEXEC, 0o600)
+    except FileNotFoundError:
+        return None
+    lock = os.fdopen(descriptor, "r+")
+    try:
+        fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        if os.fstat(lock.fileno()).st_ino != os.stat(path).st_ino:
+            raise FileNotFoundError(path)
+    except OSError:
+        lock.close()
+        return None
+    return lock
+
+
+def user_runs_processes(uid):
+    """Whether a process visible here (this PID namespace's /proc) runs as user `uid`."""
+    try:
+        entries = os.listdir("/proc")
+    except OSError:
+        return False
+    for entry in entries:
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/status") as status:
+                    for line in status:
+                        if line.startswith("Uid:"):
+                            if int(line.split()[1]) == uid:
+                                return True
+                            break
+            except (OSError, ValueError, IndexError):
+                continue
+    return False
 
 
 def clear_user(launcher, uid, files=True):

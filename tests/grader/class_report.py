@@ -16,6 +16,7 @@ import io
 import os
 import re
 import shutil
+import sys
 from dataclasses import dataclass, field
 
 import reports
@@ -23,6 +24,7 @@ import similarity
 from course import NOT_WRITTEN, OPTIONAL, TASK_NUMBER, TASKS
 
 MAXIMA_ROW = "Points Possible"  # the gradebook's row of each column's maximum (Canvas's name)
+ID_COLUMNS = ["submission", "sid", "email", "repository"]  # grade_class.Student.ids, in the gradebook's order
 TIMEOUT = "did not finish within its time limit: an endless loop, or far too slow"
 NOT_WRITTEN_YET = "not written: the untouched stub"
 GTEST_PLACE = re.compile(r"^(\S+:\d+: Failure|Failed)$")  # GoogleTest's lines before the message
@@ -46,9 +48,10 @@ class Mistake:
 
 
 def lead_line(feedback):
-    """The line of a failure message that says most: its hint, else its first line."""
+    """The line of a failure message that says most: its hint, else its first line. A hint is the
+    judge's own line: the student's text inside a message is indented (judging.student_text)."""
+    hint = next((line.strip() for line in feedback.splitlines() if line.startswith("Hint:")), None)
     lines = [line.strip() for line in feedback.splitlines() if line.strip()]
-    hint = next((line for line in lines if line.startswith("Hint:")), None)
     return short(hint or (lines[0] if lines else "(no message)"), 400)
 
 
@@ -82,7 +85,7 @@ def class_mistakes(students, graded):
     found = collections.OrderedDict()
     for student in students:
         for task in TASKS:
-            record = graded.get(student.name, {}).get(task)
+            record = graded.get(student.folder, {}).get(task)
             mistake = record and mistake_of(record)
             if not mistake:
                 continue
@@ -104,12 +107,26 @@ def graded_in(graded):
     return collections.Counter(task for records in graded.values() for task in records)
 
 
+# What makes a spreadsheet read a cell as a formula (OWASP's list for CSV injection): a text cell
+# that starts so gets a leading apostrophe, which spreadsheets show as text and do not run.
+FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
+
+
+def spreadsheet_safe(value):
+    """A CSV cell: numbers as they are, text that a spreadsheet would run as a formula quoted."""
+    if isinstance(value, str) and value.startswith(FORMULA_START):
+        return "'" + value
+    return value
+
+
 def write_csv(path, header, rows):
+    """Writes a CSV file whole or not at all; every text cell spreadsheet_safe (names, hints and
+    paths come from students)."""
     partial = path.with_name(path.name + ".partial")
     with open(partial, "w", newline="") as out:
         writer = csv.writer(out)
         writer.writerow(header)
-        writer.writerows(rows)
+        writer.writerows([spreadsheet_safe(value) for value in row] for row in rows)
     os.replace(partial, path)
 
 
@@ -117,23 +134,30 @@ def points_of(record):
     return sum(test["points"] for test in record["tests"] if test["passed"])
 
 
-def write_reports(folder, students, graded, pairs=None, partial=None):
+def write_reports(folder, students, graded, copies=None, partial=None):
     """gradebook.csv, tests.csv, mistakes.csv, similarity.csv and report.html in folder; graded:
-    {student name: {task: record}}, pairs: {task: [similarity.Pair]}; partial: (students graded
-    in every task, class size) when the grading was interrupted."""
+    {student's folder: {task: record}}, copies: a similarity.Comparison keyed by the students'
+    folders; partial: (students graded in every task, class size) when the grading was
+    interrupted. A student is their folder (unique), never their name (two may share one)."""
     counted = [task for task in TASKS if task not in OPTIONAL]
     maxima = {task: record["maximum"] for records in graded.values() for task, record in records.items()}
 
-    def row(name, points):
-        return {"student": name, **{task: points.get(task, "") for task in TASKS},
+    # The identifiers the platform exported (Gradescope's submission, SID and e-mail; Autolab's
+    # e-mail; the Classroom repository), so that the rows can be matched to the platform's.
+    id_columns = [column for column in ID_COLUMNS if any(column in student.ids for student in students)]
+
+    def row(student, points):
+        return {"student": student.name if student else MAXIMA_ROW, "folder": student.folder if student else "",
+                **{column: student.ids.get(column, "") if student else "" for column in id_columns},
+                **{task: points.get(task, "") for task in TASKS},
                 "total": sum(points.get(t, 0) for t in counted),
                 "optional": sum(points.get(t, 0) for t in TASKS if t in OPTIONAL)}
-    rows = [(student, row(student.name, {task: points_of(record) for task, record in graded[student.name].items()}))
-            for student in students if student.name in graded]
-    columns = ["student", *TASKS, "total", "optional"]
+    rows = [(student, row(student, {task: points_of(record) for task, record in graded[student.folder].items()}))
+            for student in students if student.folder in graded]
+    columns = ["student", "folder", *id_columns, *TASKS, "total", "optional"]
     # The maxima first, where spreadsheets and learning platforms (Canvas's "Points Possible") look.
     write_csv(folder / "gradebook.csv", columns,
-              [[values[c] for c in columns] for values in [row(MAXIMA_ROW, maxima)] + [r for _, r in rows]])
+              [[values[c] for c in columns] for values in [row(None, maxima)] + [r for _, r in rows]])
 
     tests = test_table(students, graded)
     write_csv(folder / "tests.csv", ["task", "test", "points", "visibility", "failed", "not_written", "students",
@@ -149,14 +173,18 @@ def write_reports(folder, students, graded, pairs=None, partial=None):
               [[m.task, m.words, m.test, m.visibility, len(m.students), counts[m.task], m.points_lost,
                 "; ".join(name for name, _ in m.students), m.example, m.picture] for m in mistakes])
 
-    pairs = pairs or {}
+    copies = copies or similarity.Comparison({}, [])
+    pairs = copies.pairs
     views = similarity_pages(folder, students, pairs)
-    write_csv(folder / "similarity.csv", ["task", "first", "second", "first_share", "second_share", "tokens_matched",
-                                          "identical", "view"],
-              [[p.task, p.first, p.second, p.first_share, p.second_share, p.tokens, "yes" if p.identical else "no",
-                views.get(id(p), "")] for task in TASKS for p in pairs.get(task, [])])
+    names = {student.folder: student.name for student in students}
+    write_csv(folder / "similarity.csv", ["task", "first", "second", "first_share", "second_share",
+                                          "fingerprints_matched", "first_lines", "second_lines", "identical", "view",
+                                          "first_folder", "second_folder"],
+              [[p.task, names[p.first], names[p.second], p.first_share, p.second_share, p.fingerprints, *p.lines,
+                "yes" if p.identical else "no", views.get(id(p), ""), p.first, p.second]
+               for task in TASKS for p in pairs.get(task, [])])
     reports.write_atomically(folder / "report.html",
-                             report_html(rows, maxima, counted, mistakes, counts, pairs, views, partial))
+                             report_html(rows, maxima, counted, mistakes, counts, copies, views, partial))
 
 
 def test_table(students, graded):
@@ -164,7 +192,7 @@ def test_table(students, graded):
     build problems as its test "(builds)"."""
     tests = collections.OrderedDict()
     for student in students:
-        for task, record in graded.get(student.name, {}).items():
+        for task, record in graded.get(student.folder, {}).items():
             if record["problem"]:
                 entry = tests.setdefault((task, "(builds)"), new_entry(record["maximum"], "visible"))
                 entry["failed"] += 1
@@ -196,7 +224,7 @@ def most_common(entry):
 
 def similarity_pages(folder, students, pairs):
     """Writes a side-by-side page per near-copy pair under similarity/; {id(pair): its path}."""
-    files = {student.name: student.files for student in students}
+    files = {student.folder: student.files for student in students}
     pages = folder / "similarity"
     shutil.rmtree(pages, ignore_errors=True)  # an earlier run's pages
     views = {}
@@ -246,38 +274,65 @@ def totals_figure(totals, total_max):
     return svg_figure(figure)
 
 
-def report_html(rows, maxima, counted, mistakes, counts, pairs, views, partial=None):
+def tasks_figure(rows, tasks, maxima, counts):
+    """A bar per task: the class's mean share of its points."""
+    import matplotlib.pyplot as plt
+    figure, axes = plt.subplots(figsize=(7, 3))
+    shares = [100 * sum(values[task] or 0 for _, values in rows) / (counts[task] * maxima[task])
+              if maxima[task] else 0 for task in tasks]
+    axes.bar([f"{TASK_NUMBER[t]} {t}" for t in tasks], shares, color=[BROWN if t in OPTIONAL else GREEN for t in tasks])
+    axes.set_ylim(0, 100)
+    axes.set_ylabel("% of the points, class mean")
+    axes.set_title("Each task (brown: optional)")
+    axes.tick_params(axis="x", labelrotation=45)
+    return svg_figure(figure)
+
+
+def mistakes_figure(shown, counts):
+    """A bar per mistake: the share of the students graded in its task who make it."""
+    import matplotlib.pyplot as plt
+    figure, axes = plt.subplots(figsize=(7, 0.4 * len(shown) + 1.2))
+    # A mistake's words may quote a student's text: a "$" must not start matplotlib's mathtext.
+    labels = [f"{m.task}: {short(m.words.removeprefix('Hint: '), 60)}".replace("$", r"\$") for m in shown][::-1]
+    axes.barh(labels, [100 * len(m.students) / counts[m.task] for m in shown][::-1],
+              color=[GREY if m.not_written else RED for m in shown][::-1])
+    axes.set_xlim(0, 100)
+    axes.set_xlabel("% of the students graded in the task (grey: the stub untouched)")
+    axes.set_title("The class's mistakes, most common first")
+    return svg_figure(figure)
+
+
+def figures_or_notes(drawings):
+    """([svg], [note]): each drawing (name, function, arguments) drawn, or, where it fails (no
+    matplotlib, a figure that cannot be drawn), a line saying which is missing and why."""
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+    except ImportError:
+        return [], [f"No figures: matplotlib is not installed for {sys.executable} (python3-matplotlib)."]
+    figures, notes = [], []
+    for name, draw, arguments in drawings:
+        try:
+            figures.append(draw(*arguments))
+        except Exception as error:  # one figure lost, never the page
+            notes.append(f"The figure of {name} is missing: {type(error).__name__}: {str(error)[:200]}.")
+    return figures, notes
+
+
+def report_html(rows, maxima, counted, mistakes, counts, copies, views, partial=None):
     """One self-contained page (figures inline as SVG, a few lines of script to sort the students'
     table): what the class got, what it got wrong, each student, the copies."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    pairs = copies.pairs
     students = len(rows)
-    figures = []
     total_max = sum(maxima.get(task, 0) for task in counted)
     tasks = [task for task in TASKS if task in maxima]
+    drawings = []
     if rows:
-        figures.append(totals_figure([values["total"] for _, values in rows], total_max))
-        figure, axes = plt.subplots(figsize=(7, 3))
-        shares = [100 * sum(values[task] or 0 for _, values in rows) / (counts[task] * maxima[task])
-                  if maxima[task] else 0 for task in tasks]
-        axes.bar([f"{TASK_NUMBER[t]} {t}" for t in tasks], shares,
-                 color=[BROWN if t in OPTIONAL else GREEN for t in tasks])
-        axes.set_ylim(0, 100)
-        axes.set_ylabel("% of the points, class mean")
-        axes.set_title("Each task (brown: optional)")
-        axes.tick_params(axis="x", labelrotation=45)
-        figures.append(svg_figure(figure))
-    shown = mistakes[:15]
-    if shown:
-        figure, axes = plt.subplots(figsize=(7, 0.4 * len(shown) + 1.2))
-        labels = [f"{m.task}: {short(m.words.removeprefix('Hint: '), 60)}" for m in shown][::-1]
-        axes.barh(labels, [100 * len(m.students) / counts[m.task] for m in shown][::-1],
-                  color=[GREY if m.not_written else RED for m in shown][::-1])
-        axes.set_xlim(0, 100)
-        axes.set_xlabel("% of the students graded in the task (grey: the stub untouched)")
-        axes.set_title("The class's mistakes, most common first")
-        figures.append(svg_figure(figure))
+        drawings.append(("the totals", totals_figure, ([values["total"] for _, values in rows], total_max)))
+        drawings.append(("the tasks", tasks_figure, (rows, tasks, maxima, counts)))
+    if mistakes:
+        drawings.append(("the mistakes", mistakes_figure, (mistakes[:15], counts)))
+    figures, missing = figures_or_notes(drawings)
 
     def seen(value):
         return {"visible": "seen before the due date", "after_due_date": "seen after the due date",
@@ -302,7 +357,7 @@ def report_html(rows, maxima, counted, mistakes, counts, pairs, views, partial=N
         f"<tr><td>{student_link(student.name, student.folder)}</td>"
         + "".join(f"<td>{values[task]}</td>" for task in tasks)
         + f"<td>{values['total']}</td><td>{values['optional']}</td>"
-        f"<td>{', '.join(str(TASK_NUMBER[t]) for t in TASKS if t in flags.get(student.name, []))}</td></tr>"
+        f"<td>{', '.join(str(TASK_NUMBER[t]) for t in TASKS if t in flags.get(student.folder, []))}</td></tr>"
         for student, values in rows)
     maxima_row = ("<tr class=\"maxima\"><td>maximum</td>" + "".join(f"<td>{maxima[task]}</td>" for task in tasks)
                   + f"<td>{total_max}</td><td>{sum(maxima[t] for t in tasks if t in OPTIONAL)}</td><td></td></tr>")
@@ -313,14 +368,14 @@ def report_html(rows, maxima, counted, mistakes, counts, pairs, views, partial=N
 table {{ border-collapse: collapse; }} td, th {{ padding: 0.2em 0.6em; text-align: left; vertical-align: top;
 border-bottom: 1px solid #ddd; }} th.sortable {{ cursor: pointer; text-decoration: underline dotted; }}
 tr.maxima td {{ font-style: italic; color: #616161; }} svg {{ max-width: 100%; height: auto; }}
-small {{ color: #616161; }} table.mistakes td:nth-child(2) {{ min-width: 28em; }}</style>
+small {{ color: #616161; }} p.missing {{ color: #b71c1c; }} table.mistakes td:nth-child(2) {{ min-width: 28em; }}</style>
 </head><body>
 <h1>The class's results</h1>
 {f'<p><strong>Partial: the grading was interrupted with {partial[0]} of {partial[1]} students graded in every task; run the same command again to grade the rest.</strong></p>' if partial else ''}
 <p>{students} students graded; mean total {mean:.1f} of {total_max} points in the required tasks.
 Files beside this page: <code>gradebook.csv</code> (a row per student, the maxima first), <code>mistakes.csv</code>,
 <code>tests.csv</code> (a row per test) and <code>similarity.csv</code>.</p>
-{''.join(f'<figure>{svg}</figure>' for svg in figures)}
+{''.join(f'<figure>{svg}</figure>' for svg in figures)}{''.join(f'<p class="missing">{html.escape(note)}</p>' for note in missing)}
 <h2 id="mistakes">What the class got wrong</h2>
 <p>Each student's failures in a task, grouped by the mistake they show: the lead hint (or first line) of their first
 failing test there, visible tests first (under it: that test, and when a student sees it on Gradescope); a file that
@@ -336,7 +391,7 @@ copy or near-copy of another's (below).</p>
 <table id="students-table"><thead><tr><th class="sortable">student</th>{''.join(f'<th class="sortable">{TASK_NUMBER[t]} {html.escape(t)}</th>' for t in tasks)}
 <th class="sortable">total</th><th class="sortable">optional</th><th class="sortable">similar in</th></tr>{maxima_row}</thead>
 <tbody>{student_rows}</tbody></table>
-{similarity_section(pairs, views, {student.name: student_link(student.name, student.folder) for student, _ in rows})}
+{similarity_section(copies, views, {student.folder: student_link(student.name, student.folder) for student, _ in rows})}
 <script>
 // Sorts the students' table by the column clicked (numbers as numbers; again: the other way).
 document.querySelectorAll("#students-table th.sortable").forEach((header, column) => {{
@@ -363,8 +418,10 @@ def student_link(name, folder):
     return f'<a href="students/{html.escape(folder)}/report.html">{html.escape(name)}</a>'
 
 
-def similarity_section(pairs, views, links):
-    """The copies: identical files by group, then the near-copies with their shares and views."""
+def similarity_section(copies, views, links):
+    """The copies: identical files by group, then the near-copies with their shares and views,
+    and a line for each thing the finder left out."""
+    pairs = copies.pairs
     def name(student):
         return links.get(student, html.escape(student))
     groups = "".join(f"<tr><td>{html.escape(task)}</td><td>{len(group)}</td><td>{', '.join(name(s) for s in group)}</td></tr>"
@@ -389,19 +446,25 @@ def similarity_section(pairs, views, links):
             shown.add(key)
             view = f'<a href="{views[id(p)]}">side by side</a>' if id(p) in views else ""
             near += (f"<tr><td>{html.escape(task)}</td><td>{side(task, p.first)}</td><td>{side(task, p.second)}</td>"
-                     f"<td>{p.first_share} %</td><td>{p.second_share} %</td><td>{p.tokens}</td><td>{view}</td></tr>")
+                     f"<td>{p.first_share} %</td><td>{p.second_share} %</td><td>{p.lines[0]} / {p.lines[1]}</td>"
+                     f"<td>{view}</td></tr>")
+    notes = "".join(f'<p class="missing">{html.escape(note)}</p>' for note in copies.notes)
     return f"""<h2 id="similarity">Copies and near-copies</h2>
-<p>Each task's files compared pair by pair by Debian's similarity tester (<code>sim_c++</code>, <code>sim_c</code>),
-which compares tokens: renamed variables, another layout, other comments and functions in another order do not hide
-a copy. The lines of the stub, which every student got, are left out, and so is a file that is the untouched stub.
-A pair is listed when at least {similarity.SHARE_FLAGGED} % of one file's own code is found in the other (in runs of
-{similarity.RUN_TOKENS} tokens or more, {similarity.MATCH_FLAGGED} in all). This flags; it changes no points.</p>
+<p>Each task's files compared pair by pair by Dolos, a copy finder made for students' code, which compares the files'
+syntax trees: renamed variables, another layout, other comments and functions in another order do not hide a copy.
+What the students share without copying is left out: the stub, which every student got, and any passage found in
+more than {similarity.SHARED_BY} of a task's different files (or {100 * similarity.SHARED_BY_SHARE:.0f} % of them in
+a large class: the one natural way to write a small task), and a file that is the untouched stub is not compared. A
+pair is listed when at least {similarity.SHARE_FLAGGED} % of one file's own code is found in the other
+({similarity.FINGERPRINTS_FLAGGED} fingerprints or more: a task of a dozen lines that everyone writes alike is too small
+to tell). This flags; it changes no points.</p>
+{notes}
 <h3>Identical files</h3>
 {f'<table><tr><th>task</th><th>students</th><th>who handed in the same file</th></tr>{groups}</table>' if groups else '<p>None.</p>'}
 <h3>Near-copies</h3>
 <p><em>first share</em>: how much of the first student's own code is found in the second's file; <em>second
-share</em>: the other way; <em>tokens</em>: the matched code's length.</p>
-{f'<table><tr><th>task</th><th>first</th><th>second</th><th>first share</th><th>second share</th><th>tokens</th><th></th></tr>{near}</table>' if near else '<p>None.</p>'}
+share</em>: the other way; <em>lines</em>: how many lines of each file the matched code spans.</p>
+{f'<table><tr><th>task</th><th>first</th><th>second</th><th>first share</th><th>second share</th><th>lines</th><th></th></tr>{near}</table>' if near else '<p>None.</p>'}
 """
 
 

@@ -29,27 +29,41 @@ def is_program_task(name):
 
 def read_course(path=COURSE_FILE):
     """[(number, name, status)] from course.txt, in course order; ValueError names a bad line."""
-    course = []
+    return read_catalogue(path)[0]
+
+
+def read_catalogue(path=COURSE_FILE):
+    """([(number, name, status)], {name: [earlier tasks its file may call]}) from course.txt;
+    ValueError names a bad line."""
+    course, uses = [], {}
     for line_number, line in enumerate(path.read_text().splitlines(), start=1):
         if not line.strip() or line.lstrip().startswith("#"):
             continue
         words = line.split()
-        if len(words) != 3 or not words[0].isdigit() or words[2] not in STATUSES:
-            raise ValueError(f"{path.name} line {line_number}: '{line}' is not 'NUMBER NAME required|optional|off'")
+        if len(words) not in (3, 5) or not words[0].isdigit() or words[2] not in STATUSES or \
+                (len(words) == 5 and words[3] != "uses"):
+            raise ValueError(f"{path.name} line {line_number}: '{line}' is not 'NUMBER NAME required|optional|off' "
+                             "(and, for a task whose file calls earlier tasks' functions, 'uses TASK,TASK')")
         number, name, status = int(words[0]), words[1], words[2]
         if number != len(course) + 1:
             raise ValueError(f"{path.name} line {line_number}: task {number} should be task {len(course) + 1}")
+        earlier = [task for _, task, _, _ in course]
+        uses[name] = words[4].split(",") if len(words) == 5 else []
+        for used in uses[name]:
+            if used not in earlier or is_program_task(used):
+                raise ValueError(f"{path.name} line {line_number}: {name} uses '{used}', which is not an earlier "
+                                 "task written in C++")
         course.append((number, name, status, line_number))
     c_track_alone = all(status == "off" for _, name, status, _ in course if not is_program_task(name))
     for number, name, status, line_number in course:
         if number <= CORE_TASKS and status != "required" and not c_track_alone:
             raise ValueError(f"{path.name} line {line_number}: task {number} ({name}) is one of the six core tasks "
                              "and must stay required (unless every C++ task is off: the C track alone)")
-    return [(number, name, status) for number, name, status, _ in course]
+    return [(number, name, status) for number, name, status, _ in course], uses
 
 
 try:
-    COURSE = read_course()
+    COURSE, DECLARED_USES = read_catalogue()
 except ValueError as error:
     if __name__ != "__main__":
         raise
@@ -66,6 +80,12 @@ STAGES = [name for number, name, status in COURSE
           if number > CORE_TASKS and status != "off" and name not in PROGRAM_TASKS]
 OFF = [name for _, name, status in COURSE if status == "off"]
 TASK_NUMBER = {name: number for number, name, _ in COURSE}
+# The earlier tasks whose functions a task's file may call (course.txt's "uses"): its worker is
+# linked with their reference code, and with the stand-ins of every other task, whose functions
+# say "not implemented yet" (tests/grader/building.py). A file that calls another task's
+# functions is refused: the stages contain tasks 4 and 6, and no task is graded by another's
+# reference code.
+USES = {task: [used for used in DECLARED_USES[task] if used in TASKS] for task in TASKS}
 # What a student writes in each task's file, for hints.
 TASK_FUNCTIONS = {task: task for task in TASKS} | {
     "kinetic_energy": "kinetic_energy or correct_energy_drift",

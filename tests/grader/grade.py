@@ -5,9 +5,11 @@ extension stages that are not switched off) and writes what the grading platform
     /usr/bin/python3 tests/grader/grade.py [--submission DIR] [--results DIR] [options]
 
 For each task it compiles the submitted file on its own, once, in the task's cell (a file that
-does not compile, or defines what a task file may not, scores 0 for its task, with the reason as
-feedback), links the task's worker with it (and, where the reference solutions exist, with the
-reference code of the other tasks, so a mistake in one task cannot cost points in another), then
+does not compile, or defines or calls what a task file may not, scores 0 for its task, with the
+reason as feedback), links the task's worker with it (and, where the reference solutions exist,
+with the reference code of the tasks it uses, course.txt's "uses", so that a mistake in one task
+cannot cost points in another, and the other tasks' stand-ins, so that no other task's reference
+code answers for it), then
 runs every graded test in a judge process and a worker process of its own, with time and
 resource limits. The judge (the task's graded suite) holds no submitted code: it calls the
 student's functions in the worker and judges their answers, so an early exit, a crash, a hang or

@@ -44,6 +44,7 @@ from similarity.py) and report.html.
 """
 
 import collections
+import concurrent.futures
 import contextlib
 import fcntl
 import hashlib
@@ -84,9 +85,11 @@ AUTOLAB_VERSIONED = re.compile(r"^(?P<version>\d+)_(?P<name>.+)$")
 
 @dataclass
 class Student:
-    name: str              # as the gradebook shows it
+    name: str              # as the gradebook shows it (two students may share one)
     places: list           # the files and folders that hold their task files
-    folder: str = ""       # their folder under students/: the name made safe, unique
+    folder: str = ""       # their folder under students/: the name made safe, unique; the key of
+                           # their results everywhere
+    ids: dict = field(default_factory=dict)     # what the platform's export identifies them by
     files: dict = field(default_factory=dict)   # task -> bytes of the file graded (the stub if none)
     notes: list = field(default_factory=list)   # what find_task_files says about their files
 
@@ -158,7 +161,8 @@ def read_class(path, work):
     prefix = os.path.commonprefix([entry.name for entry in repositories])
     prefix = prefix[:prefix.rfind("-") + 1]
     if len(repositories) >= 2 and repositories == entries and prefix:
-        return "classroom", [Student(entry.name[len(prefix):], [entry]) for entry in entries]
+        return "classroom", [Student(entry.name[len(prefix):], [entry], ids={"repository": entry.name})
+                             for entry in entries]
     return "folders", [Student(re.sub(r"(\.tar\.gz|\.tgz|\.tar|\.zip)$", "", entry.name), [entry])
                        for entry in entries if entry.is_dir() or is_archive(entry)]
 
@@ -175,9 +179,15 @@ def gradescope_students(folder):
             continue
         entry = metadata[name] if isinstance(metadata[name], dict) else {}
         submitters = entry.get(":submitters") or entry.get("submitters") or []
+        people = [person for person in submitters if isinstance(person, dict)]
+
+        def each(field_name):
+            return "; ".join(str(value) for person in people
+                             if (value := person.get(f":{field_name}") or person.get(field_name)))
         named = [str(person.get(":name") or person.get("name") or person.get(":email") or person.get(":sid") or "")
-                 for person in submitters if isinstance(person, dict)]
-        students.append(Student(", ".join(n for n in named if n) or str(name), [submission]))
+                 for person in people]
+        students.append(Student(", ".join(n for n in named if n) or str(name), [submission],
+                                ids={"submission": str(name), "sid": each("sid"), "email": each("email")}))
     return students
 
 
@@ -196,7 +206,7 @@ def autolab_students(entries):
             email, places = entry.name, [item for v, item in versions if v == version]
         if email not in latest or version > latest[email][0]:
             latest[email] = (version, places)
-    return [Student(email, places) for email, (_, places) in sorted(latest.items())]
+    return [Student(email, places, ids={"email": email}) for email, (_, places) in sorted(latest.items())]
 
 
 def safe_folders(students):
@@ -286,7 +296,7 @@ def grade_on_worker(repo, files, options, cutoff):
             (submission / name).write_bytes(text)
         records = here / "records.json"
         records.unlink(missing_ok=True)
-        command = ["/usr/bin/python3", str(repo / "tests" / "grader" / "grade.py"), "--submission", str(submission),
+        command = [sys.executable, str(repo / "tests" / "grader" / "grade.py"), "--submission", str(submission),
                    "--results", str(here / "results"), "--build", str(machine / "build"), "--work", str(here),
                    "--prebuilt", "--records", str(records),
                    *options, *(["--prepare"] if files is None else [])]
@@ -397,17 +407,74 @@ class ClassResults:
         return found
 
     def class_records(self, students):
-        """{student name: {task: record}} of the tasks each student has been graded in."""
+        """{student's folder: {task: record}} of the tasks each student has been graded in."""
         found = {}
         for student in students:
             saved = {task: entry["record"] for task in TASKS if (entry := self.saved(student, task))}
             if saved:
-                found[student.name] = saved
+                found[student.folder] = saved
         return found
 
 
+class LocalWorkers:
+    """What the class grading asks of a Dask client, from a pool of this machine's processes: for
+    a Python without Dask (its gradings are the same, grade_on_worker in a process of its own,
+    each process in a build folder of its own)."""
+
+    def __init__(self, count):
+        self.pool = concurrent.futures.ProcessPoolExecutor(count, initializer=signal.signal,
+                                                            initargs=(signal.SIGINT, signal.SIG_IGN))
+
+    def scheduler_info(self):
+        return {"workers": {"local": {"host": socket.gethostname()}}}
+
+    def submit(self, function, *arguments, **_dask_options):
+        return LocalFuture(self.pool.submit(function, *arguments))
+
+    @staticmethod
+    def as_completed(futures):
+        by_inner = {future.inner: future for future in futures}
+        return (by_inner[inner] for inner in concurrent.futures.as_completed(by_inner))
+
+    def cancel(self, futures):
+        for future in futures:
+            future.inner.cancel()
+
+    def close(self):
+        self.pool.shutdown(wait=True, cancel_futures=True)
+
+
+@dataclass(eq=False)
+class LocalFuture:
+    """A LocalWorkers' grading, as Dask's future shows it."""
+    inner: concurrent.futures.Future
+
+    @property
+    def status(self):
+        return "finished" if self.inner.exception() is None else "error"
+
+    def result(self):
+        return self.inner.result()
+
+    def exception(self):
+        return self.inner.exception()
+
+    def release(self):
+        pass
+
+
 def start_client(arguments, pending):
-    from distributed import Client
+    """A Dask client: of --client's cluster, or of local worker processes; without Dask, local
+    processes of this machine's (LocalWorkers)."""
+    workers = max(1, min(arguments.workers, pending))
+    try:
+        from distributed import Client
+    except ImportError:
+        if arguments.client:
+            grade.fail("--client needs Dask: install python3-distributed (./build.sh grade --class installs it)")
+        print(f"grade: Dask is not installed for {sys.executable}: grading on {workers} processes of this machine "
+              "(python3-distributed grades on a cluster)", flush=True)
+        return LocalWorkers(workers)
     if arguments.client:
         try:
             return Client(arguments.client, timeout=30)
@@ -416,7 +483,6 @@ def start_client(arguments, pending):
                        "`dask scheduler` and workers with `dask worker ADDRESS` on machines with a copy of this "
                        "repository")
     import logging
-    workers = max(1, min(arguments.workers, pending))
     # Ctrl-C at the terminal reaches the local workers too (one process group): they start with
     # it ignored (Python keeps an ignored SIGINT so), and this process alone stops the grading.
     previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
@@ -483,7 +549,7 @@ def grade_class(arguments):
     # reports show everyone finished so far.
     failures += progress.fill_the_rest(failures)
     graded = results.class_records(students)
-    complete = sum(all(task in graded.get(student.name, {}) for task in tasks) for student in students)
+    complete = sum(all(task in graded.get(student.folder, {}) for task in tasks) for student in students)
     class_report.write_reports(results_folder, students, graded, compare_files(students, tasks),
                                partial=(complete, len(students)) if interrupted else None)
     shutil.rmtree(work, ignore_errors=True)
@@ -503,12 +569,13 @@ def grade_class(arguments):
 
 
 def compare_files(students, tasks):
-    """{task: [similarity.Pair]}: the copies and near-copies among the students' files."""
-    if not all(shutil.which(tester) for tester in similarity.TESTER.values()):
-        print("grade: copies are not looked for: install Debian's similarity-tester (./build.sh grade does)", flush=True)
-        return {}
+    """The copies and near-copies among the students' files (a similarity.Comparison); what the
+    finder left out is printed too."""
     stubs = {task: (REPO / "tasks" / TASK_FILE[task]).read_bytes() for task in tasks}
-    return similarity.compare_class({student.name: student.files for student in students}, stubs, tasks)
+    copies = similarity.compare_class({student.folder: student.files for student in students}, stubs, tasks)
+    for note in copies.notes:
+        print(f"grade: {note}", flush=True)
+    return copies
 
 
 class ClassProgress:
@@ -595,14 +662,14 @@ class ClassProgress:
 def run_pending(arguments, results, pending, progress):
     """Grades the pending students on Dask, each saved as it finishes (progress); the names that
     failed. First each worker builds the grader, as a step of its own."""
-    try:
+    client = start_client(arguments, len(pending))
+    if isinstance(client, LocalWorkers):
+        as_completed = client.as_completed
+    else:
         from distributed import as_completed
         import cloudpickle
-    except ImportError:
-        grade.fail("class grading needs Dask: install Debian's python3-distributed (./build.sh test installs it)")
-    cloudpickle.register_pickle_by_value(sys.modules[__name__])  # workers need not import this file
+        cloudpickle.register_pickle_by_value(sys.modules[__name__])  # workers need not import this file
     repo = str(arguments.worker_repo or REPO)
-    client = start_client(arguments, len(pending))
     failures = []
     futures = {}
     try:

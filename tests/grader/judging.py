@@ -560,7 +560,7 @@ def feedback(test, run, cpu_limit, why, clock):
     shown = ""
     if printed:
         shown = ("\nWhat your code printed" + (f" ({size:,} bytes; the first {PRINTED_CAP:,} characters)"
-                                               if len(printed) > PRINTED_CAP else "") + f":\n{printed[:PRINTED_CAP]}")
+                                               if len(printed) > PRINTED_CAP else "") + f":\n  {student_text(printed[:PRINTED_CAP])}")
     return "\n".join(part for part in [lead, messages] if part).strip() + shown
 
 
@@ -624,7 +624,8 @@ def readable_first(text):
             continue
         # (what comes before GoogleTest's first failure, such as why the test ended, stays whole)
         readable = next((at for at in range(len(chunk) - 2, -1, -1) if chunk[at].startswith("Expected: ")
-                         and chunk[at + 1].startswith("Your code: ")), None) \
+                         and next((line for line in chunk[at + 1:] if not line.startswith("  ")), "")
+                         .startswith("Your code: ")), None) \
             if chunk and FAILURE_PLACE.match(chunk[0]) else None
         if readable is None:
             shown.append("\n".join(chunk).strip())
@@ -635,12 +636,19 @@ def readable_first(text):
     return "\n\n".join(part for part in shown if part), "\n\n".join(part for part in raw if part)
 
 
+def student_text(text):
+    """Text of the student's (an exception's message, what their code printed) inside a message:
+    each of its lines after the first indented, so that none of them reads as one of the judge's
+    own lines ("Hint: ...", "Expected: ...", "Picture: ..."), which start a line."""
+    return text.replace("\n", "\n  ")
+
+
 def gtest_messages(text):
     """GoogleTest's output without its banner lines: the failure messages and anything printed."""
     noise = ("[==========]", "[----------]", "[ RUN      ]", "[       OK ]", "Note: Google Test filter",
              "[  PASSED  ]", "[  FAILED  ]", "[  SKIPPED ]")
-    text = re.sub(r'unknown file: Failure\nC\+\+ exception with description "(.*)" thrown in the test body\.',
-                  r"The code threw an exception: \1", text)
+    text = re.sub(r'unknown file: Failure\nC\+\+ exception with description "(.*?)" thrown in the test body\.',
+                  lambda match: "The code threw an exception: " + student_text(match[1]), text, flags=re.DOTALL)
     # A call whose worker ended fails with the proxy's message (its place in the proxy says nothing
     # to a student), and GoogleTest adds a line for the exception that ends the test.
     text = re.sub(r"unknown file: Failure\nUnknown C\+\+ exception thrown in the test body\.\n?", "", text)

@@ -68,6 +68,8 @@ STUDENT_EXCLUDED = [
     "tests/grader/grade_class_bench.py",  # ... its benchmark
     "tests/grader/class_report.py",   # ... the instructor's report of it
     "tests/grader/similarity.py",     # ... the copies in it
+    "tests/grader/copies/",           # ... the copy finder's npm package
+    "tests/grader/copies_bench.py",   # ... and its benchmark
     "tests/grader/class-report.png",  # ... and the instructors' guide's pictures of them
     "tests/grader/class-similarity.png",
     ".ci/",                           # the instructors' CI (it expects the reference solutions)
@@ -82,8 +84,10 @@ STUDENT_EXCLUDED = [
 ]
 # The release's README is the students' guide.
 STUDENTS_GUIDE = "tasks/README.md"
-# README blocks only for instructors, removed from the student release (in every .md file).
+# Blocks only for instructors, removed from the student release: in every .md file, and in
+# build.sh (the class grader's set-up), between lines "# instructors" and "# /instructors".
 INSTRUCTORS_BLOCK = re.compile(r"<!-- instructors -->.*?<!-- /instructors -->\n?", re.DOTALL)
+INSTRUCTORS_LINES = re.compile(r"^# instructors\n.*?^# /instructors\n", re.DOTALL | re.MULTILINE)
 
 # The driver's cut-off for one grading run, above the bound below (it only catches a grader that
 # is itself broken) and below the platform's limit, so that results are still written:
@@ -388,7 +392,7 @@ def reference_scores_full(limits):
     score full points."""
     results = Path(tempfile.mkdtemp(prefix="billiard-setup-"))
     try:
-        done = subprocess.run(["/usr/bin/python3", str(REPO / GRADE), "--submission", str(REPO / "solutions"),
+        done = subprocess.run([sys.executable, str(REPO / GRADE), "--submission", str(REPO / "solutions"),
                                "--results", str(results), "--dependencies", "reference", "--require-full", "--brief",
                                *limits])
     finally:
@@ -454,7 +458,7 @@ def run_grader(submission, results_folder, cutoff, grade_options=(), limits=tupl
     (Gradescope), the submitted files are compiled and the tests run as an unprivileged user, to
     whom the reference solutions and the grader's build are unreadable while grading
     (--protect-reference); Autolab runs jobs unprivileged, so there a handin could include them."""
-    command = ["/usr/bin/python3", str(REPO / GRADE), "--submission", str(submission), "--results",
+    command = [sys.executable, str(REPO / GRADE), "--submission", str(submission), "--results",
                str(results_folder), "--dependencies", "reference", "--audience", "student", *limits, *grade_options]
     if os.geteuid() == 0:
         command.append("--protect-reference")
@@ -847,6 +851,8 @@ def command_student_release(arguments):
             target.write_text(students_text((REPO / STUDENTS_GUIDE).read_text()))
         elif path.endswith(".md"):
             target.write_text(students_text((REPO / path).read_text()))
+        elif path == "build.sh":
+            target.write_text(INSTRUCTORS_LINES.sub("", (REPO / path).read_text()))
         else:
             shutil.copyfile(REPO / path, target)
         os.chmod(target, file_mode(path))

@@ -1,36 +1,48 @@
-"""Copies and near-copies in a class: each task's files compared pair by pair with Debian's
-similarity tester (package similarity-tester: sim_c++ for C++, sim_c for C), which matches runs
-of tokens and so sees through renamed variables, changed layout and comments, and reordered
-functions. What every student shares (the lines of the task's stub: includes, signatures) is
-left out before comparing, so that only each student's own code counts; a file that is the
-untouched stub is not compared at all. It flags pairs for an instructor to look at; it never
-changes points.
+"""Copies and near-copies in a class: each task's files compared pair by pair by Dolos, the copy
+finder that Ghent University keeps for exactly this (npm's @dodona/dolos-lib, run by Node.js;
+./build.sh installs it into build/copy-finder/, and copies/find_copies.mjs is what runs). Its
+tokens are the nodes of each file's syntax tree, so renamed names, another layout, moved comments
+and reordered functions do not hide a copy; it fingerprints runs of KGRAM tokens, keeping one
+fingerprint in each WINDOW runs (winnowing; both Dolos's defaults). It flags pairs for an
+instructor to look at; it never changes points.
 
-A pair is flagged when at least SHARE_FLAGGED % of one file's own code is found in the other,
-in runs of at least RUN_TOKENS tokens that add up to MATCH_FLAGGED tokens or more (a few lines
-any two solutions of a small task write alike are not a copy). Identical files are flagged as
-a group.
+What students share without copying counts for no pair, as MOSS discounts it: the task's stub,
+which every student got (includes, signatures), and any passage found in more than SHARED_BY
+of a task's different files, or SHARED_BY_SHARE of them in a large class (the one natural way
+to write a small task). A file that is the untouched stub is not compared, nor one far larger
+than any solution (over COMPARED_FILE_CAP bytes: a token flood), which a note names instead.
+
+A pair is flagged when at least SHARE_FLAGGED % of one file's own fingerprints are found in the
+other, and at least FINGERPRINTS_FLAGGED in all: the dozen lines of a task as small as
+init_velocities, which everyone writes alike, are too little to tell a copy by. Identical
+files are flagged as a group, whatever their size.
 """
 
-import difflib
 import html
 import itertools
+import json
 import re
 import resource
+import shutil
 import subprocess
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from course import TASK_FILE
 
-SHARE_FLAGGED = 50    # % of one file's own code found in the other
-MATCH_FLAGGED = 60    # tokens matched in all
-RUN_TOKENS = 24       # the shortest run that counts (sim's default)
-TESTER = {".cpp": "sim_c++", ".c": "sim_c"}
-RUN_LINE = re.compile(r"^(?P<a>f\d+)\.\w+: line (?P<a0>\d+)-(?P<a1>\d+)\s*\|(?P<b>f\d+)\.\w+: line (?P<b0>\d+)-(?P<b1>\d+)"
-                      r"\s*\[(?P<tokens>\d+)\]")
-FILE_LINE = re.compile(r"^File (?P<file>f\d+)\.\w+: (?P<tokens>\d+) tokens")
+HERE = Path(__file__).resolve().parent
+FINDER_SCRIPT = HERE / "copies" / "find_copies.mjs"
+FINDER_HOME = HERE.parents[1] / "build" / "copy-finder"  # npm's install (./build.sh grade --class)
+OLDEST_NODE = 18                 # Dolos's oldest Node.js
+LANGUAGE = {".cpp": "cpp", ".c": "c"}
+KGRAM = 23                       # tokens per fingerprinted run (Dolos's default)
+WINDOW = 17                      # one fingerprint kept per window of this many runs (Dolos's default)
+SHARE_FLAGGED = 60               # % of one file's own fingerprints found in the other
+FINGERPRINTS_FLAGGED = 30        # fingerprints matched, at least
+SHARED_BY = 10                   # a passage in more of a task's different files is nobody's own (MOSS's)
+SHARED_BY_SHARE = 0.1            # ... or in more than this share of them, in a large class
+COMPARED_FILE_CAP = 64 << 10     # bytes: several times the largest reference solution
+FINDER_SECONDS = 300             # CPU seconds for one task's comparison
 
 
 @dataclass
@@ -38,88 +50,162 @@ class Pair:
     task: str
     first: str                 # a student's name
     second: str
-    first_share: int = 100     # % of the first's own code found in the second's file
+    first_share: int = 100     # % of the first's own fingerprints found in the second's file
     second_share: int = 100
-    tokens: int = 0            # tokens matched
+    fingerprints: int = 0      # fingerprints matched
+    lines: tuple = (0, 0)      # lines of each file that the matched code spans
     identical: bool = False
-    runs: list = field(default_factory=list)  # ((first's lines), (second's lines), tokens)
+    runs: list = field(default_factory=list)  # ((first's lines), (second's lines), fingerprints)
 
     @property
     def share(self):
         return max(self.first_share, self.second_share)
 
 
-def own_code(text, stub):
-    """text with the lines it shares with the stub blanked (so line numbers stay), as sim reads."""
-    lines, stub_lines = text.splitlines(), stub.splitlines()
-    matcher = difflib.SequenceMatcher(None, [line.strip() for line in lines], [line.strip() for line in stub_lines],
-                                      autojunk=False)
-    kept = list(lines)
-    for block in matcher.get_matching_blocks():
-        for index in range(block.a, block.a + block.size):
-            kept[index] = ""
-    return "\n".join(kept) + "\n"
+@dataclass
+class Comparison:
+    pairs: dict                # {task: [Pair]}
+    notes: list                # one line each: what was not compared, and why
 
 
-def limit_tester():
-    """The tester reads students' text: it gets a bounded share of this machine."""
-    resource.setrlimit(resource.RLIMIT_CPU, (60, 60))
-    resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))
+def node():
+    return shutil.which("node") or shutil.which("nodejs")
+
+
+def node_too_old():
+    """The version of this system's Node.js when it is older than Dolos runs on (Ubuntu 22.04's
+    12), else None."""
+    if node() is None:
+        return None
+    done = subprocess.run([node(), "--version"], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    found = re.match(r"v(\d+)\.", done.stdout)
+    return None if found and int(found[1]) >= OLDEST_NODE else (done.stdout.strip() or "an unknown version")
+
+
+def finder_problem():
+    """None when the copy finder can run here, else one line saying why not and what to do."""
+    if node() is None:
+        return "Node.js is not installed (./build.sh grade --class installs it and the copy finder)"
+    if node_too_old():
+        return f"the copy finder (Dolos) needs Node.js {OLDEST_NODE} or newer, and this system has {node_too_old()}"
+    if not (FINDER_HOME / "installed").is_file():
+        return "the copy finder (Dolos, from npm) is not installed: ./build.sh grade --class installs it"
+    return None
+
+
+def limit_finder():
+    """The finder parses students' text: it gets a bounded share of this machine."""
+    resource.setrlimit(resource.RLIMIT_CPU, (FINDER_SECONDS, FINDER_SECONDS))
+    resource.setrlimit(resource.RLIMIT_AS, (4 << 30, 4 << 30))
+
+
+def run_finder(language, template, texts, floor=SHARE_FLAGGED / 100):
+    """Dolos's pairs of the texts [str] of which the share floor of one file's own fingerprints
+    is found in the other, as find_copies.mjs writes them (files named by their index)."""
+    shared_by = max(SHARED_BY, int(SHARED_BY_SHARE * len(texts)))
+    request = {"language": language, "kgram": KGRAM, "window": WINDOW, "sharedBy": shared_by, "floor": floor,
+               "template": template, "files": [{"name": str(index), "text": text} for index, text in enumerate(texts)]}
+    script = FINDER_HOME / FINDER_SCRIPT.name  # beside its node_modules, where Node looks for them
+    if not script.is_file() or script.read_bytes() != FINDER_SCRIPT.read_bytes():
+        shutil.copyfile(FINDER_SCRIPT, script)
+    done = subprocess.run([node(), str(script)], input=json.dumps(request), stdout=subprocess.PIPE,
+                          stderr=subprocess.PIPE, text=True, errors="replace", timeout=2 * FINDER_SECONDS,
+                          preexec_fn=limit_finder)
+    if done.returncode != 0:
+        raise RuntimeError(f"the copy finder failed: {done.stderr.strip()[-500:]}")
+    return json.loads(done.stdout)["pairs"]
+
+
+def one_to_one(fragments):
+    """The matching parts to show of Dolos's fragments ([first rows], [second rows], fingerprints;
+    rows from 0): the largest first, each line of either file in one part at most (Dolos also
+    matches, say, each function's head with every other's), as ((first lines), (second lines),
+    fingerprints) with lines from 1, in the first file's order."""
+    taken, shown = (set(), set()), []
+    for first, second, size in sorted(fragments, key=lambda fragment: -fragment[2]):
+        lines = (set(range(first[0], first[1] + 1)), set(range(second[0], second[1] + 1)))
+        if lines[0] & taken[0] or lines[1] & taken[1]:
+            continue
+        taken[0].update(lines[0])
+        taken[1].update(lines[1])
+        shown.append(((first[0] + 1, first[1] + 1), (second[0] + 1, second[1] + 1), size))
+    return sorted(shown)
+
+
+def spanned(runs, side):
+    """How many lines of one side of a pair (0: first, 1: second) its runs span."""
+    return sum(run[side][1] - run[side][0] + 1 for run in runs)
+
+
+def by_content(files, stub):
+    """{file's bytes: [students]} of the files handed in (not empty, not the untouched stub)."""
+    found = {}
+    for student, text in sorted(files.items()):
+        if text.strip() and text != stub:
+            found.setdefault(text, []).append(student)
+    return found
+
+
+def identical_pairs(task, contents):
+    return [Pair(task, a, b, identical=True) for names in contents.values() for a, b in itertools.combinations(names, 2)]
+
+
+def near_pair(task, first, second, raw):
+    """The Pair of students first and second (first's file raw["first"]) from Dolos's raw pair."""
+    shares = [min(100, round(100 * raw[f"{side}Covered"] / raw[f"{side}Own"])) if raw[f"{side}Own"] else 0
+              for side in ("first", "second")]
+    runs = one_to_one(raw["fragments"])
+    lines = (spanned(runs, 0), spanned(runs, 1))
+    pair = Pair(task, first, second, shares[0], shares[1], min(raw["firstCovered"], raw["secondCovered"]), lines,
+                False, runs)
+    if first < second:
+        return pair
+    return Pair(task, second, first, shares[1], shares[0], pair.fingerprints, lines[::-1], False,
+                sorted((theirs, mine, size) for mine, theirs, size in runs))
 
 
 def compare_task(task, files, stub):
-    """[Pair] of a task's flagged pairs; files {student: bytes}, stub: the task's stub (bytes)."""
-    suffix = Path(TASK_FILE[task]).suffix
-    handed_in = {student: text for student, text in files.items() if text.strip() and text != stub}
-    by_content = {}
-    for student, text in sorted(handed_in.items()):
-        by_content.setdefault(text, []).append(student)
-    pairs = [Pair(task, a, b, identical=True) for names in by_content.values() for a, b in itertools.combinations(names, 2)]
-    contents = list(by_content)
-    if len(contents) < 2:
-        return pairs
-    stub_text = stub.decode(errors="replace")
-    with tempfile.TemporaryDirectory(prefix="similarity-") as folder:
-        paths = []
-        for index, content in enumerate(contents):
-            path = Path(folder) / f"f{index}{suffix}"
-            path.write_text(own_code(content.decode(errors="replace"), stub_text))
-            paths.append(path.name)
-        done = subprocess.run([TESTER[suffix], "-e", "-s", "-n", "-r", str(RUN_TOKENS), "-w", "200", *paths],
-                              cwd=folder, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, errors="replace",
-                              timeout=600, preexec_fn=limit_tester)
-    if done.returncode != 0:
-        raise RuntimeError(f"{TESTER[suffix]} failed on {task}: {done.stderr.strip()[-500:]}")
-    sizes, runs = {}, {}
-    for line in done.stdout.splitlines():
-        if match := FILE_LINE.match(line):
-            sizes[int(match["file"][1:])] = int(match["tokens"])
-        elif (match := RUN_LINE.match(line)) and match["a"] != match["b"]:
-            a, b = int(match["a"][1:]), int(match["b"][1:])
-            run = ((int(match["a0"]), int(match["a1"])), (int(match["b0"]), int(match["b1"])), int(match["tokens"]))
-            if a > b:
-                a, b, run = b, a, (run[1], run[0], run[2])
-            runs.setdefault((a, b), []).append(run)
-    for (a, b), found in runs.items():
-        tokens = sum(run[2] for run in found)
-        # (runs may overlap in one file, where it repeats itself: a share is at most all of it)
-        shares = [min(100, round(100 * tokens / sizes[index])) if sizes.get(index) else 0 for index in (a, b)]
-        if tokens < MATCH_FLAGGED or max(shares) < SHARE_FLAGGED:
-            continue
-        for first, second in itertools.product(by_content[contents[a]], by_content[contents[b]]):
-            if first > second:
-                pairs.append(Pair(task, second, first, shares[1], shares[0], tokens, False,
-                                  sorted((run[1], run[0], run[2]) for run in found)))
-            else:
-                pairs.append(Pair(task, first, second, shares[0], shares[1], tokens, False, sorted(found)))
-    return sorted(pairs, key=lambda pair: (not pair.identical, -pair.share, pair.first, pair.second))
+    """([Pair], [note]) of a task's flagged pairs; files {student: bytes}, stub: the task's stub."""
+    contents = by_content(files, stub)
+    too_large = sorted(student for text, names in contents.items() if len(text) > COMPARED_FILE_CAP for student in names)
+    notes = [f"{task}: not compared, over {COMPARED_FILE_CAP >> 10} KiB (far larger than any solution): "
+             f"{', '.join(too_large)}"] if too_large else []
+    contents = {text: names for text, names in contents.items() if len(text) <= COMPARED_FILE_CAP}
+    pairs = identical_pairs(task, contents)
+    texts = list(contents)
+    if len(texts) >= 2:
+        language = LANGUAGE[Path(TASK_FILE[task]).suffix]
+        for raw in run_finder(language, stub.decode(errors="replace"), [text.decode(errors="replace") for text in texts]):
+            shares = [raw[f"{side}Covered"] / raw[f"{side}Own"] if raw[f"{side}Own"] else 0 for side in ("first", "second")]
+            if 100 * max(shares) < SHARE_FLAGGED or min(raw["firstCovered"], raw["secondCovered"]) < FINGERPRINTS_FLAGGED:
+                continue
+            mine, theirs = contents[texts[int(raw["first"])]], contents[texts[int(raw["second"])]]
+            pairs += [near_pair(task, first, second, raw) for first, second in itertools.product(mine, theirs)]
+    return sorted(pairs, key=lambda pair: (not pair.identical, -pair.share, pair.first, pair.second)), notes
 
 
 def compare_class(files, stubs, tasks):
-    """{task: [Pair]} for a class: files {student: {task: bytes}}, stubs {task: bytes}."""
-    return {task: compare_task(task, {student: own[task] for student, own in files.items() if task in own},
-                               stubs[task])
-            for task in tasks}
+    """The copies in a class, a Comparison: files {student: {task: bytes}}, stubs {task: bytes}.
+    Where the finder cannot run, or fails in a task, a note says so, and identical files are
+    still found."""
+    problem = finder_problem()
+    pairs, notes = {}, [] if problem is None else [f"Near-copies were not looked for: {problem}."]
+    for task in tasks:
+        own = {student: mine[task] for student, mine in files.items() if task in mine}
+        if problem is None:
+            try:
+                pairs[task], found = compare_task(task, own, stubs[task])
+                notes += found
+                continue
+            except (OSError, RuntimeError, ValueError, subprocess.TimeoutExpired) as error:
+                notes.append(f"{task}: near-copies were not looked for: {last_line(error)}")
+        pairs[task] = identical_pairs(task, by_content(own, stubs[task]))
+    return Comparison(pairs, notes)
+
+
+def last_line(error):
+    lines = str(error).strip().splitlines()
+    return lines[-1][:300] if lines else type(error).__name__
 
 
 def groups(pairs):
@@ -147,7 +233,7 @@ def side_by_side(pair, first_text, second_text):
                          for number in range(start, end + 1))
 
     rows = "".join(f"<tr><td><pre>{excerpt(first_lines, a)}</pre></td><td><pre>{excerpt(second_lines, b)}</pre></td>"
-                   f"<td>{tokens}</td></tr>" for a, b, tokens in pair.runs)
+                   "</tr>" for a, b, _ in pair.runs)
     title = f"{pair.task}: {pair.first} and {pair.second}"
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>{html.escape(title)}</title>
@@ -156,9 +242,11 @@ td, th {{ vertical-align: top; border-bottom: 1px solid #ccc; padding: 0.3em; te
 pre {{ margin: 0; white-space: pre-wrap; background: #fff8e1; font-size: 0.85em; }}</style></head><body>
 <h1>{html.escape(title)}</h1>
 <p>{pair.first_share} % of {html.escape(pair.first)}'s own code is found in {html.escape(pair.second)}'s file, and
-{pair.second_share} % the other way ({pair.tokens} tokens in runs of at least {RUN_TOKENS}; names, layout and
-comments may differ: the similarity tester compares tokens). The lines every student got in the stub are left
-out. The matching parts, in {html.escape(pair.first)}'s order:</p>
-<table><tr><th>{html.escape(pair.first)}</th><th>{html.escape(pair.second)}</th><th>tokens</th></tr>{rows}</table>
+{pair.second_share} % the other way; the matched code spans {pair.lines[0]} of {html.escape(pair.first)}'s lines and
+{pair.lines[1]} of {html.escape(pair.second)}'s. Names,
+layout, comments and the order of functions may differ: the copy finder compares the files' syntax trees. What every
+student got in the stub, and what many students' files share, is left out. The matching parts, in
+{html.escape(pair.first)}'s order:</p>
+<table><tr><th>{html.escape(pair.first)}</th><th>{html.escape(pair.second)}</th></tr>{rows}</table>
 </body></html>
 """

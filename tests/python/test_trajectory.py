@@ -25,8 +25,9 @@ FLOAT32_ROUNDOFF = 2.0**-24
 
 
 def gsd_read_mode():
+    """The read mode of the gsd installed, as the module chooses it (gsd 2 and 3 name it apart)."""
     import gsd
-    return "r" if int(gsd.__version__.split(".")[0]) >= 3 else "rb"
+    return billiard.trajectory._open_mode(gsd, "r")
 
 
 def unwrapped_from_event_log(sim, frame_times):

@@ -220,7 +220,11 @@ bool receive(int grader, std::string& message, Worker& worker) {
   }
   ::signal(SIGPIPE, SIG_IGN);  // a worker that has ended is a failed call, not the end of the judge
   if (worker.to >= 0) billiard::testing::use_worker(worker.to, worker.from);
+#ifdef GTEST_FLAG_SET
   GTEST_FLAG_SET(filter, name);
+#else  // GoogleTest 1.11 (Ubuntu 22.04's) has only the older spelling
+  ::testing::GTEST_FLAG(filter) = name;
+#endif
   const int status = RUN_ALL_TESTS();
   const auto* unit = ::testing::UnitTest::GetInstance();
   const bool passed = status == 0 && unit->Passed() && unit->test_to_run_count() > 0;

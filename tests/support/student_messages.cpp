@@ -4,9 +4,26 @@
 
 namespace billiard::testing {
 
+namespace {
+
+// A part of several lines with each line after its first indented: only the message's own
+// "Expected:", "Your code:", "Hint:" and "Picture:" start a line, whatever a student's output or
+// exception message quoted in `got` holds (the grader reads the hint from the line that starts so).
+std::string indented(std::string_view part) {
+  std::string out;
+  out.reserve(part.size());
+  for (const char c : part) {
+    out += c;
+    if (c == '\n') out += "  ";
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string explain(std::string_view expected, std::string_view got, std::string_view hint) {
   const std::string picture = picture_of_failure(expected, got);
-  return text("\nExpected: ", expected, "\nYour code: ", got, "\nHint: ", hint, "\n",
+  return text("\nExpected: ", indented(expected), "\nYour code: ", indented(got), "\nHint: ", indented(hint), "\n",
               picture.empty() ? std::string() : text("Picture: ", picture, "\n"));
 }
 

@@ -22,7 +22,8 @@ void count(int n);
 void rows(const Eigen::Matrix<double, Eigen::Dynamic, 2>& rows, int n, std::string_view name);
 
 // Every centre inside the table (|r| <= table_radius - circle_radius) and no two circles
-// overlapping, both up to a rounding tolerance of 1e-9 table_radius. O(n^2).
+// overlapping, both up to a rounding tolerance of 1e-9 table_radius; the first failure in row
+// order is the one reported. O(n) for circles that do not overlap (each compared with its neighbours).
 void placement(double table_radius, double circle_radius, const Coordinates& coordinates);
 
 // The extension stages (extensions.hpp).

@@ -70,9 +70,12 @@ def _gsd_hoomd():
 
 
 def _open_mode(gsd, mode):
-    """gsd 3 names the modes 'r' and 'x'; gsd 2 (Debian 12 has 2.7) 'rb' and 'xb'."""
-    major = int(str(gsd.__version__).split(".")[0])
-    return mode if major >= 3 else mode + "b"
+    """gsd 3 names the modes 'r' and 'x'; gsd 2 (Debian 12 has 2.7) 'rb' and 'xb'. The version is
+    gsd.version.version from gsd 3 on (gsd 3.4, Debian 13's, has no gsd.__version__), and
+    gsd.version.__version__ in gsd 2."""
+    import gsd.version
+    found = getattr(gsd.version, "version", None) or getattr(gsd.version, "__version__")
+    return mode if int(str(found).split(".")[0]) >= 3 else mode + "b"
 
 
 def _new_frame(hoomd):

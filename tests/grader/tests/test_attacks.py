@@ -30,6 +30,12 @@ from course import TASK_FILE, TASKS  # noqa: E402
 ATTACKS = HERE / "hostile" / "attacks"
 
 
+# The sectors stage's efficiency tests (tests/graded/test_sectors.cpp): the count of pair tests
+# gives the hint, the time limit on a large table the points.
+EFFICIENCY_TESTS = ["Sectors.TestsAtLeast20TimesFewerPairsThanAllPairs",
+                    "Sectors.TestsAtLeast100TimesFewerPairsGrowingLinearlyWithN"]
+
+
 def attack(name, **paths):
     """The file of an attack; a template (.in) gets the given paths for its @NAME@ words."""
     folder = ATTACKS / name
@@ -113,14 +119,17 @@ def outputs(report, stdout, results):
 
 
 def in_use(uid):
-    """Whether a grading holds user id `uid` now (the pool's lock file; cell.UserIds)."""
-    import fcntl
-    try:
-        with open(cell.pool_folder() / f"{uid}.lock", "a") as lock:
-            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            return False
-    except OSError:
+    """Whether a grading holds user id `uid` now (its claim, or its lock file; cell.UserIds)."""
+    claim = cell.claim_user(uid)
+    if claim is False:
         return True
+    if claim:
+        claim.close()
+    lock = cell.open_lock(cell.pool_folder(), uid, create=False)
+    if lock is None:
+        return (cell.pool_folder() / f"{uid}.lock").exists()  # locked by the grading that holds it
+    lock.close()
+    return False
 
 
 def leftovers():
@@ -228,6 +237,50 @@ class Attacks(unittest.TestCase):
         self.assertTrue(any("STASHING: " in test["feedback"] for record in records for test in record["tests"]
                             if test["visibility"] == "hidden"), "the stash attack ran in a hidden test")
         self.assert_nothing_leaks(written, records)
+
+    def test_another_tasks_reference_code_answers_for_no_task(self):
+        """propagate.cpp that calls the walls stage with no walls (refused, with a message naming
+        the call), and kinetic_energy.cpp that looks through its own program's memory for what
+        only the gravity stage's reference code holds (code it could reach without naming it):
+        the stages' reference code would answer for tasks 4 and 6. Each scores 0, neither finds
+        another task's reference code in its process, and the tasks beside them (movie, which may
+        call propagate, among them) keep full points."""
+        attacks = [attack("another_tasks_reference"), attack("looks_for_a_stage_in_its_memory")]
+        attacked = {task_of(path) for path in attacks}
+        scores, maxima, report, written, _ = self.grade(submission("solutions", attacks))
+        for task in TASKS:
+            self.assertEqual(scores[task], 0 if task in attacked else maxima[task], task)
+        shown = {task: "\n".join(test["output"] for test in report["tests"] if test["name"].startswith(task + ":"))
+                 for task in attacked}
+        self.assertIn("propagate_walls", shown["propagate"])
+        self.assertIn("task 8 (walls), which propagate.cpp may not call", shown["propagate"])
+        self.assertIn("no other task's reference code here", shown["kinetic_energy"], "the search ran")
+        for where, text in written.items():
+            self.assertNotIn("FOUND: the gravity stage's reference code", text, where)
+        self.assert_nothing_leaks(written)
+
+    def test_a_forged_pair_count_earns_no_efficiency_point(self):
+        """sectors.cpp that tests all pairs with a formula of its own and calls pair_time n times on
+        (i, i): the count, which lives in its process, looks linear. Every efficiency test still
+        fails, stopped at its time limit on the table of 200,000 circles (the time read from
+        outside the worker), and says why; the other tasks keep full points."""
+        path = attack("forged_pair_count")
+        task = task_of(path)
+        scores, maxima, report, written, _ = self.grade(submission("solutions", [path]))
+        efficiency = {name: test for name, test in ((test["name"].split(": ", 1)[-1], test) for test in report["tests"]
+                                                    if test["name"].startswith(task + ":"))
+                      if name in EFFICIENCY_TESTS}
+        self.assertEqual(sorted(efficiency), sorted(EFFICIENCY_TESTS), "the suite's efficiency tests are in the report")
+        for name, test in efficiency.items():
+            self.assertEqual(test["status"], "failed", f"{name} earns points on the forged count")
+        shown = [test["output"] for test in efficiency.values() if test["visibility"] != "hidden" and test["output"]]
+        self.assertTrue(any("did not finish within" in text and "dilute table of 200000 circles" in text
+                            for text in shown), shown)
+        self.assertLessEqual(scores[task], maxima[task] - sum(test["max_score"] for test in efficiency.values()))
+        for other in TASKS:
+            if other != task:
+                self.assertEqual(scores[other], maxima[other], f"{other} is correct and must keep full points")
+        self.assert_nothing_leaks(written)
 
     def test_holding_memory_and_processors_costs_only_its_own_task(self):
         """A task whose code starts processes that hold memory, busy threads, allocates beyond its

@@ -345,9 +345,17 @@ class GradesKnownSubmissions(unittest.TestCase):
         (scores, maxima, report, junit, output), elapsed, leftovers = grade_alone(
             submission_from_solutions(propagate=HERE / "hostile" / "propagate.cpp"), *package.PLATFORM_GRADE_OPTIONS)
         limits = time_limits.saved_limits(BUILD)
-        budget = limits["propagate"].budget
-        bound = sum(item.budget for item in limits.values())
         self.check_gradescope_format(report)
+        outputs = [test["output"] for test in report["tests"] if test["name"].startswith("propagate:")]
+        # The budget this grading gave propagate, as its tests not run state it: the saved one, or
+        # more where the grader found this machine slower than when the reference was measured.
+        stated = {float(found) for text in outputs for found in re.findall(r"may take (\d+) s in all here", text)}
+        self.assertEqual(len(stated), 1, outputs)
+        budget = stated.pop()
+        saved = sum(item.budget for item in limits.values())
+        self.assertGreaterEqual(budget + 1, limits["propagate"].budget * min(1, package.PLATFORM_TOTAL / saved),
+                                "a budget is scaled up on a slower machine, down only to fit --total")
+        bound = float(re.search(r"budgets adding up to (\d+) s", output)[1])
         self.assertEqual(scores["propagate"], 0)
         for task in TASKS:
             if task != "propagate":
@@ -362,7 +370,6 @@ class GradesKnownSubmissions(unittest.TestCase):
         suite = next(suite for suite in junit.iter("testsuite") if suite.get("name") == "propagate")
         test_time = sum(float(case.get("time")) for case in suite.iter("testcase"))
         self.assertLessEqual(test_time, budget + 2, "propagate's tests together stay within its budget")
-        outputs = [test["output"] for test in report["tests"] if test["name"].startswith("propagate:")]
         stopped = [text for text in outputs if "did not finish within" in text]
         not_run = [text for text in outputs if "not run" in text]
         self.assertTrue(stopped and not_run, outputs)
@@ -375,9 +382,11 @@ class GradesKnownSubmissions(unittest.TestCase):
         self.assertEqual(leftovers, [], "the processes that left their tests are stopped")
 
     def test_a_slower_machine_scales_the_limits(self):
-        # The reference's times as if measured on a machine twice as fast as this one (as when a
-        # platform sets the grader up on a faster machine than it grades on): the grader finds
-        # this machine slower and scales the limits with it.
+        # The reference's times as if measured on a machine eight times as fast as this one (as
+        # when a platform sets the grader up on a faster machine than it grades on): the grader
+        # finds this machine slower and scales the limits with it. (Eight times: the probe of a
+        # machine's speed reads CPU time, which a busy sibling processor of a two-vCPU machine
+        # stretches from one grading to the next, by 1.8 times once in CI.)
         limits = time_limits
         path = BUILD / limits.REFERENCE_TIMES
         grade(REPO / "solutions", "--task", "init_billiard")  # the reference's times are measured
@@ -385,7 +394,7 @@ class GradesKnownSubmissions(unittest.TestCase):
         record = json.loads(saved)
         normal = limits.saved_limits(BUILD)["init_billiard"].budget
         for times in record["tasks"].values():
-            times["speed"] /= 2
+            times["speed"] /= 8
         try:
             path.write_text(json.dumps(record))
             scores, maxima, _, _, output = grade(REPO / "solutions", "--task", "init_billiard")
@@ -394,12 +403,13 @@ class GradesKnownSubmissions(unittest.TestCase):
         self.assertEqual(scores["init_billiard"], maxima["init_billiard"])
         found = re.search(r"this machine is ([\d.]+) times slower", output)
         self.assertTrue(found, output[-2000:])
-        self.assertGreater(float(found.group(1)), 1.5)
+        self.assertGreater(float(found.group(1)), 2.5)
         budget = float(re.search(r"budgets adding up to (\d+) s", output).group(1))
-        self.assertGreater(budget, 1.5 * normal, f"init_billiard's budget: {normal:.0f} s, scaled {budget:.0f} s")
-        # And with the times of this machine, no scaling.
+        self.assertGreater(budget, 2.5 * normal, f"init_billiard's budget: {normal:.0f} s, scaled {budget:.0f} s")
+        # And with the times of this machine, no scaling beyond that noise.
         _, _, _, _, output = grade(REPO / "solutions", "--task", "init_billiard")
-        self.assertNotIn("times slower", output)
+        found = re.search(r"this machine is ([\d.]+) times slower", output)
+        self.assertTrue(found is None or float(found.group(1)) < 2, output[-2000:])
 
     def test_the_reference_is_measured_in_the_graded_tasks_only(self):
         # A grading measures the reference's times in the tasks it grades that miss them, adds
@@ -715,8 +725,13 @@ class Mutants(unittest.TestCase):
     fails leads with a hint naming the bug, for every mutant that models a student's mistake (its
     "Lead hint names:" line); at least five such mutants per task. In a task where a state
     evolves, that test draws its failing case: the picture is read back and checked against the
-    message (picture_problems). The required tasks' mutants run in the full run; the optional
-    tasks' (the stages, the C track), as many again, with the long runs (label stress)."""
+    message (picture_problems). The test command grades one mutant of each required task (the
+    first with a lead hint); every mutant of every task runs with the long runs (label stress)."""
+
+    def test_a_mutant_of_each_required_task_loses_points_only_in_its_own_task(self):
+        tasks = [task for task in TASKS if not course.is_optional(task)]
+        self.assertTrue(tasks, "course.txt requires no task")
+        self.check_mutants(tasks, at_least=20, one_per_task=True)
 
     def test_every_mutant_of_a_required_task_loses_points_only_in_its_own_task(self):
         tasks = [task for task in TASKS if not course.is_optional(task)]
@@ -729,12 +744,15 @@ class Mutants(unittest.TestCase):
             self.skipTest("course.txt has no optional task")
         self.check_mutants(tasks, at_least=5 * len(tasks))
 
-    def check_mutants(self, tasks, at_least):
+    def check_mutants(self, tasks, at_least, one_per_task=False):
         self.assertTrue(Path(SVG_CIRCLES).is_file() or not PICTURE_TASKS, "BILLIARD_SVG_CIRCLES names no program")
         # The mutants of these tasks (course.txt may switch stages off).
         mutants = sorted(mutant for mutant in (REPO / "tests" / "mutants").glob("*/*.mutant")
                          if mutant.parent.name in tasks)
         self.assertGreaterEqual(len(mutants), at_least)
+        if one_per_task:
+            mutants = [next(mutant for mutant in mutants if mutant.parent.name == task and lead_hint(mutant))
+                       for task in tasks]
         problems = []
         later_hints = []
         with_lead = {task: 0 for task in tasks}
@@ -802,7 +820,7 @@ class Mutants(unittest.TestCase):
               + f"; {pictures} pictures of their first failures read back", flush=True)
         print("\n".join(later_hints), flush=True)
         problems += [f"{task}: only {count} mutants check the lead hint (5 wanted)"
-                     for task, count in with_lead.items() if count < 5]
+                     for task, count in with_lead.items() if count < (1 if one_per_task else 5)]
         self.assertEqual(problems, [], "\n".join(problems))
 
 

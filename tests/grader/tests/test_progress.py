@@ -230,10 +230,21 @@ class Course(unittest.TestCase):
         for text, words in [(self.core() + "7 gravity maybe\n", "line 7"),
                             (self.core() + "8 gravity optional\n", "should be task 7"),
                             (self.core().replace("4 propagate required", "4 propagate optional"), "must stay required"),
-                            ("1 init_billiard\n", "line 1")]:
+                            ("1 init_billiard\n", "line 1"),
+                            (self.core() + "7 gravity optional uses walls\n", "not an earlier task"),
+                            (self.core() + "7 gravity optional needs propagate\n", "line 7")]:
             with self.assertRaises(ValueError) as raised:
                 self.read(text)
             self.assertIn(words, str(raised.exception))
+
+    def test_what_a_task_may_call_is_declared_once(self):
+        # movie calls propagate; no other task calls another's functions (the stages contain
+        # tasks 4 and 6: they may not call them).
+        self.assertEqual({task: uses for task, uses in course.USES.items() if uses}, {"movie": ["propagate"]})
+        with tempfile.TemporaryDirectory() as folder:
+            path = Path(folder) / "course.txt"
+            path.write_text(self.core().replace("5 movie required", "5 movie required uses propagate,init_billiard"))
+            self.assertEqual(course.read_catalogue(path)[1]["movie"], ["propagate", "init_billiard"])
 
 
 
