@@ -786,7 +786,8 @@ def build_suites(build, compiler, staged, problems, tasks, clocks, remembered=Tr
             continue
         if not quiet:
             print(f"grade: {task_name(task)}: compiling {TASK_FILE[task]}", flush=True)
-        limit = max(min(clocks[task].limits.compile, clocks[task].left), time_limits.MINIMUM_START_SECONDS)
+        limit = max(min(clocks[task].limits.compile, clocks[task].left, clocks[task].deadline.left()),
+                    time_limits.MINIMUM_START_SECONDS)
         problem, compile_seconds[task] = compiler.compile(task, source, limit, remembered=remembered)
         clocks[task].spend(compile_seconds[task], building=True)
         if problem:
@@ -803,7 +804,8 @@ def build_suites(build, compiler, staged, problems, tasks, clocks, remembered=Tr
             result.problem = problems[task]
             continue
         if task not in PROGRAM_TASKS:  # a program task's worker runs the program itself
-            limit = max(min(clocks[task].limits.compile, clocks[task].left), time_limits.MINIMUM_START_SECONDS)
+            limit = max(min(clocks[task].limits.compile, clocks[task].left, clocks[task].deadline.left()),
+                        time_limits.MINIMUM_START_SECONDS)
             result.problem, result.link_seconds = compiler.link(task, limit)
             clocks[task].spend(result.link_seconds, building=True)
             if result.problem:

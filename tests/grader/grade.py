@@ -50,7 +50,7 @@ from judging import ResultCache, place_pictures, run_tests
 from course import TASK_FILE, TASKS
 from reports import (gradescope_results, googletest_log, junit_xml, print_table, submission_report, task_records,
                      write_atomically)
-from time_limits import TaskClock, fixed_limits, measured_limits
+from time_limits import Deadline, TaskClock, fixed_limits, measured_limits
 
 
 def fail(message):
@@ -107,6 +107,10 @@ def parse_arguments(argv):
     parser.add_argument("--total", type=float,
                         help="seconds the graded tasks' budgets may add up to at most (a platform's time limit for a "
                              "submission, less its other work): larger budgets are scaled down to fit")
+    parser.add_argument("--deadline", type=float, metavar="SECONDS",
+                        help="seconds of wall time after it starts by which the grading ends, however busy the "
+                             "machine (a platform's cutoff, less the time to write the results): no test starts "
+                             "later, one still running is stopped, and the results are written")
     parser.add_argument("--build-timeout", type=float, default=1800.0,
                         help="seconds for the grader's own build, which does not depend on the submission "
                              "(default 1800)")
@@ -164,9 +168,10 @@ def parse_arguments(argv):
     if arguments.jobs is None:
         arguments.jobs = len(os.sched_getaffinity(0))
     if min(arguments.timeout, arguments.task_budget, arguments.compile_timeout, arguments.build_timeout,
-           1 if arguments.total is None else arguments.total) <= 0 or arguments.jobs < 1:
-        fail("--timeout, --task-budget, --compile-timeout, --total and --build-timeout must be positive, and --jobs "
-             "at least 1")
+           1 if arguments.total is None else arguments.total, 1 if arguments.deadline is None else arguments.deadline) \
+            <= 0 or arguments.jobs < 1:
+        fail("--timeout, --task-budget, --compile-timeout, --total, --deadline and --build-timeout must be positive, "
+             "and --jobs at least 1")
     if arguments.protect_reference and os.geteuid() != 0:
         fail("--protect-reference needs root (the cells then run as user ids of their own): run as root, or leave it "
              "out")
@@ -211,7 +216,8 @@ def grade(arguments):
         if arguments.prepare:
             print(f"grade: the grader is ready in {arguments.build} ({own_build:.0f} s)", flush=True)
             return []
-        clocks = {task: TaskClock(limits[task]) for task in limits}
+        deadline = Deadline(arguments.deadline, started)
+        clocks = {task: TaskClock(limits[task], deadline) for task in limits}
         results = build_suites(build, compiler, staged, problems, tasks, clocks)
         cache = ResultCache(arguments.cache, limits) if arguments.cache else None
         run_tests(results, build, cells, clocks, arguments.jobs, cache)

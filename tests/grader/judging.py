@@ -38,7 +38,7 @@ from building import REPO, file_digest
 from cell import Limits, read_regular_file
 from course import PROGRAM_TASKS, task_name
 from reports import FEEDBACK_CAP, PICTURE_LINE, PICTURES, cap
-from time_limits import not_run_message, unfinished_message
+from time_limits import NO_DEADLINE, not_run_message, unfinished_message
 
 # The largest picture kept (a picture of fifty circles has 60 kB).
 PICTURE_CAP = 2 << 20
@@ -258,10 +258,11 @@ class TestServer:
         os.set_blocking(self.output, False)
         self.alive = True
 
-    def run(self, name, folder, cpu_limit, wall_limit, variables, worker, worker_output, pipes, work):
-        """Runs one test (see --serve) within its limits, with `worker` (a process started for it
-        in the folder `work`, its output on `worker_output`) at the other ends of `pipes` (to it,
-        from it). Returns a Run."""
+    def run(self, name, folder, cpu_limit, wall_limit, variables, worker, worker_output, pipes, work,
+            grading_deadline=NO_DEADLINE):
+        """Runs one test (see --serve) within its limits and the grading's deadline, with `worker`
+        (a process started for it in the folder `work`, its output on `worker_output`) at the
+        other ends of `pipes` (to it, from it). Returns a Run."""
         run = Run()
         started = time.monotonic()
         looked = started
@@ -311,6 +312,8 @@ class TestServer:
             spent = (cpu_seconds(pid) if pid else 0.0) + cpu_seconds(worker.pid)
             elapsed = time.monotonic() - started - sum(delays.values())
             left = min(cpu_limit - spent, wall_limit - elapsed)
+            if grading_deadline.left() <= 0 and not run.stopped:
+                run.out_of_time, left = True, 0
             if time.monotonic() - looked > 0.5 and not run.stopped:
                 looked = time.monotonic()
                 run.too_much_written = too_much_written(work)
@@ -395,6 +398,7 @@ class Run:
     worker_cpu = 0.0
     worker_status = None  # the worker's exit status, as Popen gives it
     stopped = False      # at a time limit, or for writing too much
+    out_of_time = False  # stopped at the grading's deadline
     too_much_written = False
     seconds = 0.0        # wall time less the time spent waiting for a processor
     dropped = 0          # bytes of the judge's output dropped
@@ -510,7 +514,7 @@ def run_test(test, programs, servers, processes, cpu_limit, wall_limit, why, clo
     os.set_blocking(output, False)
     try:
         run = server.run(test.name, judged.name, cpu_limit, wall_limit, variables, worker, output,
-                         (to_worker, from_worker), work)
+                         (to_worker, from_worker), work, clock.deadline)
     finally:
         for fd in (to_worker, from_worker, output):
             os.close(fd)
@@ -522,7 +526,8 @@ def run_test(test, programs, servers, processes, cpu_limit, wall_limit, why, clo
     # test's: several busy threads, or a grader too busy to look in time) is not finishing either.
     test.unfinished = (run.stopped and not run.too_much_written) or run.worker_status == -signal.SIGXCPU or (
         run.worker_status == -signal.SIGKILL and run.worker_cpu >= cpu_limit)
-    test.feedback, googletest = readable_first(feedback(test, run, cpu_limit, why, clock))
+    test.feedback, googletest = readable_first(feedback(test, run, cpu_limit, "deadline" if run.out_of_time else why,
+                                                        clock))
     test.feedback, test.googletest = cap(test.feedback, FEEDBACK_CAP), cap(googletest, FEEDBACK_CAP)
     test.picture = keep_picture(test, judged, cells.root)
     shutil.rmtree(judged, ignore_errors=True)

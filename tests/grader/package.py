@@ -99,6 +99,9 @@ AUTOLAB_CUTOFF = 14 * 60
 AUTOLAB_TIMEOUT = 899  # what instructors set as the autograding timeout for jobs that build the grader
 AUTOLAB_DEFAULT_TIMEOUT = 180
 AUTOLAB_PREBUILT_CUTOFF = 170
+# The grader itself ends this long before the cut-off, however busy the machine (grade.py
+# --deadline): time to stop the tests still running and write the results.
+RESULTS_ALLOWANCE = 20
 # The grader's own work per submission besides the tasks, allowed for in the stated bounds: on
 # Gradescope, setup.sh has built the grader and measured the reference solutions, so a submission
 # only checks the build (seconds); an Autolab job builds the grader from scratch and measures the
@@ -454,12 +457,14 @@ def write_gradescope_failure(results, message, details):
 
 def run_grader(submission, results_folder, cutoff, grade_options=(), limits=tuple(PLATFORM_GRADE_OPTIONS)):
     """Runs grade.py with the reference code for the other tasks and the platforms' time limits;
-    its output goes to ours. None if it did not finish within `cutoff` seconds. As root
+    its output goes to ours; it ends RESULTS_ALLOWANCE seconds before `cutoff` even on a busy
+    machine, and None is returned if it did not finish within `cutoff` seconds. As root
     (Gradescope), the submitted files are compiled and the tests run as an unprivileged user, to
     whom the reference solutions and the grader's build are unreadable while grading
     (--protect-reference); Autolab runs jobs unprivileged, so there a handin could include them."""
     command = [sys.executable, str(REPO / GRADE), "--submission", str(submission), "--results",
-               str(results_folder), "--dependencies", "reference", "--audience", "student", *limits, *grade_options]
+               str(results_folder), "--dependencies", "reference", "--audience", "student", *limits,
+               "--deadline", str(cutoff - RESULTS_ALLOWANCE), *grade_options]
     if os.geteuid() == 0:
         command.append("--protect-reference")
     sys.stdout.flush()

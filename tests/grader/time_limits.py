@@ -23,6 +23,11 @@ duration without the time it waited for a processor). A test
 starts only with time left, and the task's remaining tests fail without running once the
 budget is used up, so a submission, however it misbehaves, is graded within the sum of its
 tasks' budgets (plus the grader's own build).
+
+Those budgets leave out time spent waiting for a processor, so that a busy machine costs no
+student points; a platform's own cutoff does not. A grading with a Deadline (grade.py
+--deadline) therefore also stops there in wall time: no test starts after it, a test still
+running is stopped, and the results are written in time, each such test saying why.
 """
 
 import hashlib
@@ -194,6 +199,21 @@ def reference_times_lock(build_folder):
     return lock
 
 
+class Deadline:
+    """The wall-clock time by which a grading ends, a busy machine's waiting included (a
+    platform's cutoff less the time to write the results), or none."""
+
+    def __init__(self, seconds=None, started=None):
+        self.seconds = seconds
+        self.at = None if seconds is None else (time.monotonic() if started is None else started) + seconds
+
+    def left(self):
+        return math.inf if self.at is None else self.at - time.monotonic()
+
+
+NO_DEADLINE = Deadline()
+
+
 class TaskClock:
     """The time one task may take: compiling its file, linking its worker and running its tests.
 
@@ -203,9 +223,11 @@ class TaskClock:
     test running while tests remain, grading takes no longer than the sum of the budgets (plus
     the grader's own build), on any number of cores."""
 
-    def __init__(self, limits):
+    def __init__(self, limits, deadline=NO_DEADLINE):
         import threading
         self.limits = limits
+        self.deadline = deadline
+        self.out_of_time = False  # a test was not run because the grading's deadline had come
         self.left = limits.budget
         self.spent_building = 0.0
         self.running = 0
@@ -224,11 +246,15 @@ class TaskClock:
 
     def reserve(self, name):
         """(CPU seconds, wall seconds, why) for the next test, reserved: why is "each test" or
-        "budget" (cut short by what is left of the budget); None when the budget is used up.
-        Waits while the rest of the budget is reserved by tests of this task that are running."""
+        "budget" (cut short by what is left of the budget); None when the budget is used up or
+        the grading's deadline has come. Waits while the rest of the budget is reserved by tests
+        of this task that are running."""
         wanted = self.limits.test(name)
         with self.condition:
             while True:
+                if self.deadline.left() < MINIMUM_START_SECONDS:
+                    self.out_of_time = True
+                    return None
                 wall = min(WALL_SLACK * wanted, self.left)
                 if wall >= min(WALL_SLACK * wanted, MINIMUM_START_SECONDS):
                     self.left -= wall
@@ -251,6 +277,9 @@ def unfinished_message(clock, name, cpu_limit, why):
     """What a student reads about a test stopped at its time limit."""
     limits = clock.limits
     task = limits.task
+    if why == "deadline":
+        return (f"The test did not finish before the time this grading has on the grading machine "
+                f"({clock.deadline.seconds:.0f} s) ran out, and was stopped: {BUSY_MACHINE}")
     if why == "budget":
         because = (f"what was left of the {limits.budget:.0f} s that compiling {TASK_FILE[task]} and running all of "
                    f"{task}'s tests may take")
@@ -268,8 +297,15 @@ def unfinished_message(clock, name, cpu_limit, why):
             "never holds?")
 
 
+BUSY_MACHINE = ("the grading machine was busy with other work and could not give this test its time. Submit again "
+                "to have it graded.")
+
+
 def not_run_message(clock):
     task = clock.task
+    if clock.out_of_time:
+        return (f"This test was not run: the time this grading has on the grading machine "
+                f"({clock.deadline.seconds:.0f} s) had run out: {BUSY_MACHINE}")
     return (f"This test was not run: compiling {TASK_FILE[task]} and running {task}'s tests may take "
             f"{clock.limits.budget:.0f} s in all here, and {used_up(clock)}. A correct solution needs far less"
             + (f" (the reference solution: {clock.limits.reference_task:.1f} s)" if clock.limits.measured else "")

@@ -381,6 +381,28 @@ class GradesKnownSubmissions(unittest.TestCase):
         self.assertIn("not run:", output)
         self.assertEqual(leftovers, [], "the processes that left their tests are stopped")
 
+    def test_a_deadline_ends_a_grading_in_wall_time_with_its_results(self):
+        # A platform's cutoff is wall time, which a busy machine eats into and the tasks' budgets
+        # do not: with --deadline the grading ends there, results written, though propagate loops
+        # with 300 s of budget left. Each of its tests says that the time ran out, not its code.
+        deadline = 30
+        (scores, maxima, report, junit, output), elapsed, leftovers = grade_alone(
+            submission_from_solutions(propagate=HERE / "hostile" / "propagate.cpp"), "--task", "propagate",
+            "--limits", "fixed", "--timeout", "200", "--task-budget", "300", "--deadline", str(deadline))
+        print(f"graded in {elapsed:.0f} s with a deadline of {deadline} s", flush=True)
+        self.check_gradescope_format(report)
+        self.assertLess(elapsed, deadline + package.RESULTS_ALLOWANCE, "the results come before the platform's cut-off")
+        self.assertEqual(scores["propagate"], 0)
+        outputs = [test["output"] for test in report["tests"] if test["name"].startswith("propagate:")]
+        self.assertTrue(outputs, report)
+        stated = f"the time this grading has on the grading machine ({deadline} s)"
+        stopped = [text for text in outputs if text.startswith("The test did not finish before " + stated)]
+        not_run = [text for text in outputs if "This test was not run: " + stated in text]
+        self.assertTrue(stopped, outputs)
+        self.assertEqual(len(stopped) + len(not_run), len(outputs), outputs)
+        self.assertTrue(all("Submit again" in text for text in outputs))
+        self.assertEqual(leftovers, [], "the processes of the stopped tests are stopped")
+
     def test_a_slower_machine_scales_the_limits(self):
         # The reference's times as if measured on a machine eight times as fast as this one (as
         # when a platform sets the grader up on a faster machine than it grades on): the grader
