@@ -526,6 +526,7 @@ def run_test(test, programs, servers, processes, cpu_limit, wall_limit, why, clo
     # test's: several busy threads, or a grader too busy to look in time) is not finishing either.
     test.unfinished = (run.stopped and not run.too_much_written) or run.worker_status == -signal.SIGXCPU or (
         run.worker_status == -signal.SIGKILL and run.worker_cpu >= cpu_limit)
+    test.out_of_time = run.out_of_time
     test.feedback, googletest = readable_first(feedback(test, run, cpu_limit, "deadline" if run.out_of_time else why,
                                                         clock))
     test.feedback, test.googletest = cap(test.feedback, FEEDBACK_CAP), cap(googletest, FEEDBACK_CAP)
@@ -604,6 +605,7 @@ def run_budgeted(test, programs, servers, processes, clock):
     reserved = clock.reserve(test.name)
     if reserved is None:
         test.not_run = True
+        test.out_of_time = clock.out_of_time
         test.feedback = not_run_message(clock)
         return
     cpu_limit, wall_limit, why = reserved
@@ -756,7 +758,8 @@ def point_to_the_first_failure(result):
     names, while their own hints speak of what they check: each of them says to fix the first one
     first, so that no hint read alone (on Gradescope each test is read alone) points away from the
     mistake."""
-    failed = [test for test in result.tests if not test.passed and test.visibility != "hidden" and test.feedback]
+    failed = [test for test in result.tests
+              if not test.passed and test.visibility != "hidden" and test.feedback and not test.out_of_time]
     for test in failed[1:]:
         test.feedback = FIRST_FAILURE.format(first=failed[0].name) + "\n" + test.feedback
 

@@ -37,6 +37,7 @@ class TestResult:
     cpu_seconds: float = 0.0  # what the test's judge and its worker computed
     unfinished: bool = False  # stopped at its time limit
     not_run: bool = False     # its task's time budget was used up before it could start
+    out_of_time: bool = False  # stopped or not run at the grading's deadline (a busy machine), not for its code
     picture: str = ""         # the picture of its failing case, relative to the results folder
     googletest: str = ""      # GoogleTest's own lines of its failures (judging.readable_first)
 
@@ -140,6 +141,9 @@ def shown_feedback(test):
     """A test's feedback as the student sees it: of a hidden test, only whether it ran out of time."""
     if test.visibility != "hidden":
         return test.feedback
+    if test.out_of_time:
+        return (HIDDEN_FEEDBACK + " It was not run to its end: the grading machine was busy with other work and the "
+                "grading's time there ran out. Submit again to have it graded.")
     if test.unfinished:
         return (HIDDEN_FEEDBACK + " It did not finish within its time limit: an endless loop in "
                 f"{TASK_FUNCTIONS[test.task]}?")
