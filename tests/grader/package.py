@@ -352,7 +352,8 @@ def gradescope_bound():
             f"misbehaves: the {len(TASKS)} tasks' budgets (ten times what the reference solutions need on the "
             f"grading machine, measured by setup.sh, which prints them; at most {PLATFORM_TOTAL} s together) plus "
             f"{GRADESCOPE_BUILD_ALLOWANCE} s for checking the grader's build, so Gradescope's default timeout of "
-            f"10 minutes is enough (the grader is stopped after {GRADESCOPE_CUTOFF} s, so results are always "
+            f"10 minutes is enough (on a busy machine the grader ends after {GRADESCOPE_CUTOFF - RESULTS_ALLOWANCE} s, "
+            f"stopping the tests still running, and is stopped after {GRADESCOPE_CUTOFF} s, so results are always "
             "written).")
 
 
