@@ -28,7 +28,6 @@ import time
 from pathlib import Path
 
 import cell
-import time_limits
 from cell import Limits, read_regular_file, run_limited
 from course import PROGRAM_TASKS, TASK_FILE, TASK_FUNCTIONS, TASKS, USES, task_name
 from reports import TaskResult, TestResult, cap
@@ -786,8 +785,7 @@ def build_suites(build, compiler, staged, problems, tasks, clocks, remembered=Tr
             continue
         if not quiet:
             print(f"grade: {task_name(task)}: compiling {TASK_FILE[task]}", flush=True)
-        limit = max(min(clocks[task].limits.compile, clocks[task].left, clocks[task].deadline.left()),
-                    time_limits.MINIMUM_START_SECONDS)
+        limit = clocks[task].build_limit()
         problem, compile_seconds[task] = compiler.compile(task, source, limit, remembered=remembered)
         clocks[task].spend(compile_seconds[task], building=True)
         if problem:
@@ -804,8 +802,7 @@ def build_suites(build, compiler, staged, problems, tasks, clocks, remembered=Tr
             result.problem = problems[task]
             continue
         if task not in PROGRAM_TASKS:  # a program task's worker runs the program itself
-            limit = max(min(clocks[task].limits.compile, clocks[task].left, clocks[task].deadline.left()),
-                        time_limits.MINIMUM_START_SECONDS)
+            limit = clocks[task].build_limit()
             result.problem, result.link_seconds = compiler.link(task, limit)
             clocks[task].spend(result.link_seconds, building=True)
             if result.problem:

@@ -238,6 +238,11 @@ class TaskClock:
     def task(self):
         return self.limits.task
 
+    def build_limit(self):
+        """Seconds for compiling the task's file or linking its worker: its compile limit, within
+        what is left of the budget and before the deadline (at least enough to start)."""
+        return max(min(self.limits.compile, self.left, self.deadline.left()), MINIMUM_START_SECONDS)
+
     def spend(self, seconds, building=False):
         with self.condition:
             self.left -= seconds
