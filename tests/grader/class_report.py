@@ -134,11 +134,12 @@ def points_of(record):
     return sum(test["points"] for test in record["tests"] if test["passed"])
 
 
-def write_reports(folder, students, graded, copies=None, partial=None):
+def write_reports(folder, students, graded, copies=None, partial=None, notes=()):
     """gradebook.csv, tests.csv, mistakes.csv, similarity.csv and report.html in folder; graded:
     {student's folder: {task: record}}, copies: a similarity.Comparison keyed by the students'
     folders; partial: (students graded in every task, class size) when the grading was
-    interrupted. A student is their folder (unique), never their name (two may share one)."""
+    interrupted; notes: lines on what is left out and why (at the report's top). A student is
+    their folder (unique), never their name (two may share one)."""
     counted = [task for task in TASKS if task not in OPTIONAL]
     maxima = {task: record["maximum"] for records in graded.values() for task, record in records.items()}
 
@@ -184,7 +185,7 @@ def write_reports(folder, students, graded, copies=None, partial=None):
                 "yes" if p.identical else "no", views.get(id(p), ""), p.first, p.second]
                for task in TASKS for p in pairs.get(task, [])])
     reports.write_atomically(folder / "report.html",
-                             report_html(rows, maxima, counted, mistakes, counts, copies, views, partial))
+                             report_html(rows, maxima, counted, mistakes, counts, copies, views, partial, notes))
 
 
 def test_table(students, graded):
@@ -319,7 +320,7 @@ def figures_or_notes(drawings):
     return figures, notes
 
 
-def report_html(rows, maxima, counted, mistakes, counts, copies, views, partial=None):
+def report_html(rows, maxima, counted, mistakes, counts, copies, views, partial=None, notes=()):
     """One self-contained page (figures inline as SVG, a few lines of script to sort the students'
     table): what the class got, what it got wrong, each student, the copies."""
     pairs = copies.pairs
@@ -375,6 +376,7 @@ small {{ color: #616161; }} p.missing {{ color: #b71c1c; }} table.mistakes td:nt
 <p>{students} students graded; mean total {mean:.1f} of {total_max} points in the required tasks.
 Files beside this page: <code>gradebook.csv</code> (a row per student, the maxima first), <code>mistakes.csv</code>,
 <code>tests.csv</code> (a row per test) and <code>similarity.csv</code>.</p>
+{''.join(f'<p class="missing">{html.escape(note)}</p>' for note in notes)}
 {''.join(f'<figure>{svg}</figure>' for svg in figures)}{''.join(f'<p class="missing">{html.escape(note)}</p>' for note in missing)}
 <h2 id="mistakes">What the class got wrong</h2>
 <p>Each student's failures in a task, grouped by the mistake they show: the lead hint (or first line) of their first

@@ -361,10 +361,25 @@ class ClassResults:
         return self.folder / "students" / student.folder / "records" / f"{task}.json"
 
     def saved(self, student, task):
+        """A student's saved task entry ({"key", "student", "record"}), or None: not graded yet, or
+        a file that cannot be read (the task is then graded again)."""
+        return self.read(student, task)[0]
+
+    def read(self, student, task):
+        """(the saved entry or None, why a saved file cannot be read or None)."""
+        path = self.record_path(student, task)
+        if not path.exists():
+            return None, None
         try:
-            return json.loads(self.record_path(student, task).read_text())
-        except (OSError, ValueError):
-            return None
+            entry = json.loads(path.read_text())
+        except (OSError, ValueError) as error:
+            return None, f"{type(error).__name__}: {str(error)[:100]}"
+        if not isinstance(entry, dict) or not isinstance(entry.get("key"), str):
+            return None, "it has no key"
+        problem = reports.record_problem(entry.get("record"))
+        if problem is None and entry["record"]["task"] != task:
+            problem = f"it holds task {entry['record']['task']}"
+        return (None, problem) if problem else (entry, None)
 
     def is_current(self, student, task, key):
         saved = self.saved(student, task)
@@ -407,13 +422,21 @@ class ClassResults:
         return found
 
     def class_records(self, students):
-        """{student's folder: {task: record}} of the tasks each student has been graded in."""
-        found = {}
+        """({student's folder: {task: record}} of the tasks each student has been graded in, [a
+        line for each saved record that cannot be read, left out])."""
+        found, notes = {}, []
         for student in students:
-            saved = {task: entry["record"] for task in TASKS if (entry := self.saved(student, task))}
+            saved = {}
+            for task in TASKS:
+                entry, problem = self.read(student, task)
+                if entry:
+                    saved[task] = entry["record"]
+                elif problem:
+                    notes.append(f"{student.name} ({student.folder}): the saved results of {task} cannot be read "
+                                 f"({problem}) and are left out; run the same command again to grade them again.")
             if saved:
                 found[student.folder] = saved
-        return found
+        return found, notes
 
 
 class LocalWorkers:
@@ -548,10 +571,16 @@ def grade_class(arguments):
     # Also when interrupted: what was graded is copied to whoever handed in the same, and the
     # reports show everyone finished so far.
     failures += progress.fill_the_rest(failures)
-    graded = results.class_records(students)
+    graded, notes = results.class_records(students)
+    for note in notes:
+        print(f"grade: {note}", flush=True)
+    if failures:  # said at the end here, and in the report
+        notes.append(f"{len(failures)} students could not be graded ({', '.join(failures[:20])}"
+                     f"{', ...' if len(failures) > 20 else ''}): run the same command again to try them again; "
+                     "their grade.log says why.")
     complete = sum(all(task in graded.get(student.folder, {}) for task in tasks) for student in students)
-    class_report.write_reports(results_folder, students, graded, compare_files(students, tasks),
-                               partial=(complete, len(students)) if interrupted else None)
+    class_report.write_reports(results_folder, students, graded, compare_files(students, tasks, graded),
+                               partial=(complete, len(students)) if interrupted else None, notes=notes)
     shutil.rmtree(work, ignore_errors=True)
     if interrupted:
         print(f"\ngrade: interrupted with {complete} of {len(students)} students graded in every task; what was "
@@ -568,11 +597,14 @@ def grade_class(arguments):
     return 0
 
 
-def compare_files(students, tasks):
-    """The copies and near-copies among the students' files (a similarity.Comparison); what the
+def compare_files(students, tasks, graded):
+    """The copies and near-copies among the students' files (a similarity.Comparison), the files
+    that do not build (graded: {folder: {task: record}}) left out of the near-copies; what the
     finder left out is printed too."""
     stubs = {task: (REPO / "tasks" / TASK_FILE[task]).read_bytes() for task in tasks}
-    copies = similarity.compare_class({student.folder: student.files for student in students}, stubs, tasks)
+    unbuilt = {task: {folder for folder, records in graded.items() if task in records and records[task]["problem"]}
+               for task in tasks}
+    copies = similarity.compare_class({student.folder: student.files for student in students}, stubs, tasks, unbuilt)
     for note in copies.notes:
         print(f"grade: {note}", flush=True)
     return copies
@@ -681,13 +713,17 @@ def run_pending(arguments, results, pending, progress):
             futures[future] = (student, keys)
         for future in as_completed(list(futures)):
             student, keys = futures[future]
+            problem = None
             if future.status == "finished":
                 records, seconds, log, pictures = future.result()
+                problem = next((f"grade.py wrote a record that cannot be read ({why})" for record in records
+                                if (why := reports.record_problem(record))), None)
+            if future.status == "finished" and problem is None:
                 built = own_build_seconds(log)
                 progress.graded(student, keys, records, seconds - built, log, pictures, built)
             else:
                 failures.append(student.name)
-                progress.failed(student, future.exception())
+                progress.failed(student, ValueError(problem) if problem else future.exception())
             future.release()
     except KeyboardInterrupt:
         client.cancel(list(futures))

@@ -10,7 +10,7 @@ import html
 import os
 import re
 import xml.etree.ElementTree as ET
-from dataclasses import dataclass, field
+from dataclasses import MISSING, dataclass, field, fields
 
 from course import TASK_FILE, TASK_FUNCTIONS, TASK_NUMBER, TASKS, is_optional, task_name
 from progress import TaskProgress, next_step
@@ -300,6 +300,27 @@ def task_records(results):
     return [{"task": result.task, "maximum": result.maximum, "problem": result.problem,
              "tests": [{key: value for key, value in vars(test).items() if key != "task"} for test in result.tests]}
             for result in results]
+
+
+def record_problem(record):
+    """Why a task record is not one that task_records writes (a file damaged, edited by hand or
+    from another version of the grader), or None: the fields a result needs, each of its type,
+    nothing else."""
+    if not isinstance(record, dict):
+        return "not a record"
+    shape = {"task": str, "maximum": int, "problem": str, "tests": list}
+    if set(record) != set(shape) or not all(isinstance(record[key], kind) for key, kind in shape.items()):
+        return f"its fields are not {', '.join(shape)}"
+    if record["task"] not in TASKS:
+        return f"{record['task'][:40]!r} is not a task of this course"
+    kinds = {item.name: (float, int) if item.type is float else item.type for item in fields(TestResult)
+             if item.name != "task"}  # JSON writes 2.0 as 2.0, but a hand may write 2
+    needed = {item.name for item in fields(TestResult) if item.default is MISSING} - {"task"}
+    for number, test in enumerate(record["tests"], 1):
+        if not isinstance(test, dict) or not needed <= set(test) <= set(kinds) or \
+                not all(isinstance(value, kinds[key]) for key, value in test.items()):
+            return f"its test {number} is not a test's result"
+    return None
 
 
 def results_from_records(records):

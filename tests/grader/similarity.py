@@ -10,7 +10,8 @@ What students share without copying counts for no pair, as MOSS discounts it: th
 which every student got (includes, signatures), and any passage found in more than SHARED_BY
 of a task's different files, or SHARED_BY_SHARE of them in a large class (the one natural way
 to write a small task). A file that is the untouched stub is not compared, nor one far larger
-than any solution (over COMPARED_FILE_CAP bytes: a token flood), which a note names instead.
+than any solution (over COMPARED_FILE_CAP bytes: a token flood) or one that does not build
+(whatever text it holds), which a note names instead; identical files are found whatever they are.
 
 A pair is flagged when at least SHARE_FLAGGED % of one file's own fingerprints are found in the
 other, and at least FINGERPRINTS_FLAGGED in all: the dozen lines of a task as small as
@@ -89,8 +90,23 @@ def finder_problem():
     if node_too_old():
         return f"the copy finder (Dolos) needs Node.js {OLDEST_NODE} or newer, and this system has {node_too_old()}"
     if not (FINDER_HOME / "installed").is_file():
-        return "the copy finder (Dolos, from npm) is not installed: ./build.sh grade --class installs it"
+        return "the copy finder (Dolos, from npm) is not installed: ./build.sh grade --class installs it" + \
+            install_failure()
     return None
+
+
+def install_failure():
+    """Why npm could not install the copy finder, as its log's first error says (", which
+    failed: ..."), or ""."""
+    try:
+        lines = (FINDER_HOME / "npm.log").read_text(errors="replace").splitlines()
+    except OSError:
+        return ""
+    # npm's first error lines name a code ("npm ERR! code E404"; "npm error" since npm 10); the
+    # one after says what failed.
+    errors = [found[1].strip() for line in lines if (found := re.match(r"npm (?:ERR!|error) (.*)", line))]
+    said = next((line for line in errors if line and not re.match(r"(code|errno) ", line)), None)
+    return f", which failed here: {said[:200]} ({FINDER_HOME / 'npm.log'})" if said else ""
 
 
 def limit_finder():
@@ -164,14 +180,22 @@ def near_pair(task, first, second, raw):
                 sorted((theirs, mine, size) for mine, theirs, size in runs))
 
 
-def compare_task(task, files, stub):
-    """([Pair], [note]) of a task's flagged pairs; files {student: bytes}, stub: the task's stub."""
+def compare_task(task, files, stub, unbuilt=()):
+    """([Pair], [note]) of a task's flagged pairs; files {student: bytes}, stub: the task's stub,
+    unbuilt: the students whose file there does not build (only their identical copies are
+    found)."""
     contents = by_content(files, stub)
+    pairs = identical_pairs(task, contents)
     too_large = sorted(student for text, names in contents.items() if len(text) > COMPARED_FILE_CAP for student in names)
+    not_built = sorted(student for text, names in contents.items() if len(text) <= COMPARED_FILE_CAP
+                       for student in names if student in unbuilt)
     notes = [f"{task}: not compared, over {COMPARED_FILE_CAP >> 10} KiB (far larger than any solution): "
              f"{', '.join(too_large)}"] if too_large else []
-    contents = {text: names for text, names in contents.items() if len(text) <= COMPARED_FILE_CAP}
-    pairs = identical_pairs(task, contents)
+    notes += [f"{task}: not compared, does not build (identical copies are still found): "
+              f"{', '.join(not_built)}"] if not_built else []
+    contents = {text: [name for name in names if name not in unbuilt] for text, names in contents.items()
+                if len(text) <= COMPARED_FILE_CAP}
+    contents = {text: names for text, names in contents.items() if names}
     texts = list(contents)
     if len(texts) >= 2:
         language = LANGUAGE[Path(TASK_FILE[task]).suffix]
@@ -184,17 +208,18 @@ def compare_task(task, files, stub):
     return sorted(pairs, key=lambda pair: (not pair.identical, -pair.share, pair.first, pair.second)), notes
 
 
-def compare_class(files, stubs, tasks):
-    """The copies in a class, a Comparison: files {student: {task: bytes}}, stubs {task: bytes}.
-    Where the finder cannot run, or fails in a task, a note says so, and identical files are
-    still found."""
+def compare_class(files, stubs, tasks, unbuilt=None):
+    """The copies in a class, a Comparison: files {student: {task: bytes}}, stubs {task: bytes},
+    unbuilt {task: the students whose file there does not build}. Where the finder cannot run,
+    or fails in a task, a note says so, and identical files are still found."""
+    unbuilt = unbuilt or {}
     problem = finder_problem()
     pairs, notes = {}, [] if problem is None else [f"Near-copies were not looked for: {problem}."]
     for task in tasks:
         own = {student: mine[task] for student, mine in files.items() if task in mine}
         if problem is None:
             try:
-                pairs[task], found = compare_task(task, own, stubs[task])
+                pairs[task], found = compare_task(task, own, stubs[task], unbuilt.get(task, set()))
                 notes += found
                 continue
             except (OSError, RuntimeError, ValueError, subprocess.TimeoutExpired) as error:

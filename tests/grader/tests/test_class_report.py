@@ -10,6 +10,8 @@ it may merge two students, run in a spreadsheet, or take the report away from th
 """
 
 import csv
+import html
+import json
 import sys
 import tempfile
 import unittest
@@ -80,6 +82,34 @@ class Students(unittest.TestCase):
         self.assertEqual(len({s.folder for s in students}), 2, [s.folder for s in students])
         self.assertEqual(sorted(s.ids["sid"] for s in students), ["11", "12"])
         self.assertEqual(sorted(s.ids["submission"] for s in students), ["submission_11", "submission_12"])
+
+
+class LeftOut(unittest.TestCase):
+    def test_a_students_unreadable_records_are_a_line_and_the_rest_is_written(self):
+        # Three students' saved records: one whole, one not JSON, one of another shape (a test's
+        # points as text). The report and the gradebook have the first; a line names each of the
+        # others, which are graded again at the next run (their records are not current).
+        folder = Path(tempfile.mkdtemp(prefix="billiard-class-records-"))
+        results = grade_class.ClassResults(folder)
+        students = [student("Ada", "Ada"), student("Bob", "Bob"), student("Cy", "Cy")]
+        for one in students:
+            results.save(one, [record([(5, True), (5, False)])], {TASK: "key"})
+        results.record_path(students[1], TASK).write_text('{"key": "key", "record": ')
+        damaged = record([(5, True)])
+        damaged["tests"][0]["points"] = "5"
+        results.record_path(students[2], TASK).write_text(json.dumps({"key": "key", "record": damaged}))
+        graded, notes = results.class_records(students)
+        self.assertEqual(set(graded), {"Ada"})
+        self.assertEqual(len(notes), 2, notes)
+        self.assertTrue(notes[0].startswith("Bob (Bob): the saved results of kinetic_energy cannot be read"), notes)
+        self.assertIn("its test 1 is not a test's result", notes[1])
+        self.assertEqual([results.is_current(one, TASK, "key") for one in students], [True, False, False])
+        class_report.write_reports(folder, students, graded, similarity.Comparison({}, []), notes=notes)
+        with open(folder / "gradebook.csv", newline="") as file:
+            self.assertEqual([row["student"] for row in csv.DictReader(file)][1:], ["Ada"])
+        page = (folder / "report.html").read_text()
+        for note in notes:
+            self.assertIn(html.escape(note), page)
 
 
 class Spreadsheets(unittest.TestCase):

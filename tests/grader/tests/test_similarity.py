@@ -9,6 +9,7 @@ run, costs a note, never the comparison of the rest.
 
 import random
 import sys
+import tempfile
 import time
 import unittest
 from pathlib import Path
@@ -113,6 +114,20 @@ class Finder(unittest.TestCase):
         self.assertIn("flood", notes[0])
         self.assertLess(time.monotonic() - started, 60)
 
+    def test_a_file_that_does_not_build_is_left_out_with_a_note(self):
+        # A hidden copy that does not build is not compared (whatever it holds, the finder need not
+        # parse it); the pair of copies that build is still found, and so is an identical copy.
+        original = reference("propagate")
+        files = {"original": original, "copier": hidden(original.decode(), random.Random(3)).encode(),
+                 "broken": hidden(original.decode(), random.Random(4)).encode() + b"\n}}} not C++",
+                 "broken-twin": original}
+        pairs, notes = similarity.compare_task("propagate", files, stub("propagate"), {"broken", "broken-twin"})
+        self.assertEqual(flagged(pairs), {("copier", "original")})
+        self.assertEqual([(p.first, p.second) for p in pairs if p.identical], [("broken-twin", "original")])
+        self.assertEqual(len(notes), 1, notes)
+        self.assertIn("does not build", notes[0])
+        self.assertIn("broken, broken-twin", notes[0])
+
     def test_the_stub_and_identical_files(self):
         # The untouched stub is nobody's copy; identical files are a group whatever their size.
         files = {"a": stub("init_velocities"), "b": stub("init_velocities"), "c": reference("init_velocities"),
@@ -132,6 +147,21 @@ class WithoutTheFinder(unittest.TestCase):
         self.assertIn("Near-copies were not looked for", comparison.notes[0])
         self.assertIn("./build.sh grade --class", comparison.notes[0])
         self.assertEqual([(p.first, p.second, p.identical) for p in comparison.pairs["propagate"]], [("a", "b", True)])
+
+    def test_an_install_that_failed_says_what_npm_said(self):
+        # A registry that could not be reached while ./build.sh installed the finder (here: a
+        # proxy's certificate this system does not trust): the note says so, not only "install it".
+        home = Path(tempfile.mkdtemp(prefix="billiard-finder-"))
+        (home / "npm.log").write_text(
+            "npm ERR! code SELF_SIGNED_CERT_IN_CHAIN\nnpm ERR! errno SELF_SIGNED_CERT_IN_CHAIN\n"
+            "npm ERR! request to https://registry.npmjs.org/yallist failed, reason: self-signed certificate\n")
+        with mock.patch.object(similarity, "FINDER_HOME", home), mock.patch.object(similarity, "node_too_old",
+                                                                                   return_value=None):
+            problem = similarity.finder_problem() if similarity.node() else None
+        if problem is None:
+            self.skipTest("Similarity: skipped: no Node.js here")
+        self.assertIn("which failed here: request to https://registry.npmjs.org/yallist failed", problem)
+        self.assertIn(str(home / "npm.log"), problem)
 
 
 if __name__ == "__main__":
