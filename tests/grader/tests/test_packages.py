@@ -54,6 +54,10 @@ def environment(**extra):
     change what they do."""
     env = {key: value for key, value in os.environ.items()
            if key not in {"BILLIARD_PRESET", "AUTOGRADER_ROOT", "MAKEFLAGS", "MAKELEVEL", "MFLAGS"}}
+    # Each package is built from scratch in a tree of its own below WORK, of the same sources: with
+    # the paths below WORK given to the compiler relative to the build folder (and that folder
+    # left out of the hash), ccache finds one tree's compiles in another's.
+    env.update(CCACHE_BASEDIR=str(WORK), CCACHE_NOHASHDIR="1")
     env.update(extra)
     return env
 
