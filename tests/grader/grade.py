@@ -19,7 +19,8 @@ The rooms of the grader: building.py (the grader's build, compiling, what a task
 linking the workers), cell.py (the cells every process of a grading starts in: user ids, seccomp,
 Landlock, limits), judging.py (a test's judge and worker, time limits while they run),
 time_limits.py (the limits), reports.py (the table, results.json, junit.xml, report.html),
-progress.py (the course's tasks, from course.txt) and this command line.
+course.py (the course's tasks, from course.txt), progress.py (where a student stands, what next)
+and this command line.
 
 The time limits follow the machine where the reference solutions exist (time_limits.py: ten
 times what the reference needs here, measured once per build folder and task); otherwise they are fixed

@@ -5,12 +5,12 @@ The judge is the task's graded suite linked with proxies for the course's functi
 submitted code runs, as the judges' user id (as root). The worker is the task's file linked into
 tests/grader/judge/worker_main.cpp (a program task's: its program, run by program_runner.cpp),
 started for the test in the task's cell (cell.py); it only answers the judge's calls through a
-socket. A test counts as passed only when the judge says so; whatever the worker does (exit,
+pair of pipes. A test counts as passed only when the judge says so; whatever the worker does (exit,
 crash, hang, print, forge) makes wrong answers at most.
 
 A task's judge runs as a test server (tests/support/graded_main.cpp, --serve): it forks a process
-per test from its state before any test ran, and the grader passes that process the test's socket
-to its worker. A test's time is the CPU time of both processes; a test that sleeps or waits is
+per test from its state before any test ran, and the grader passes that process the test's pipes
+to its worker (over a control socket of its own). A test's time is the CPU time of both processes; a test that sleeps or waits is
 stopped after time_limits.WALL_SLACK times its limit of time neither computing nor waiting for a
 processor, so a machine kept busy by other gradings costs no test its points.
 

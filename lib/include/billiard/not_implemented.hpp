@@ -10,7 +10,8 @@ namespace billiard {
 
 class NotImplemented : public std::logic_error {
  public:
-  // task_number: 1 to 6; function: e.g. "propagate"; file: e.g. "tasks/propagate.cpp".
+  // task_number: the task's number in the course's catalogue (tests/grader/course.txt);
+  // function: e.g. "propagate"; file: e.g. "tasks/propagate.cpp".
   NotImplemented(int task_number, const std::string& function, const std::string& file);
   int task_number() const { return task_number_; }
   const std::string& function() const { return function_; }
