@@ -232,21 +232,49 @@ def clear_users(launcher, uids, files=True):
     for uid in uids:
         subprocess.run([str(launcher), "--user", str(uid), "--kill-all"], stdin=subprocess.DEVNULL,
                        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=60)
-    for shared in SHARED_FOLDERS if files and uids else []:
+    for entry in files_of(set(uids)) if files and uids else []:
         try:
-            entries = list(os.scandir(shared))
+            if entry.is_dir(follow_symlinks=False):
+                shutil.rmtree(entry.path, ignore_errors=True)
+            else:
+                os.unlink(entry.path)
         except OSError:
-            continue
+            pass
+
+
+# Folders below the shared ones looked into, at most this deep: a world-writable folder there
+# (another system's root unpacked in /tmp, say: its /tmp, /var/tmp, /run/lock) is as open.
+SHARED_DEPTH = 4
+
+
+def files_of(uids, is_owner=None):
+    """The entries (os.DirEntry) that users `uids` own in the shared folders and in every
+    world-writable folder below them, the only places a cell without Landlock can leave files:
+    each one's own folders whole, links never followed. is_owner(uid) replaces `uid in uids`."""
+    is_owner = is_owner or uids.__contains__
+    found, seen = [], set()
+
+    def look(folder, depth):
+        try:
+            entries = list(os.scandir(folder))
+        except OSError:
+            return
         for entry in entries:
             try:
-                if entry.stat(follow_symlinks=False).st_uid not in uids:
-                    continue
-                if entry.is_dir(follow_symlinks=False):
-                    shutil.rmtree(entry.path, ignore_errors=True)
-                else:
-                    os.unlink(entry.path)
+                status = entry.stat(follow_symlinks=False)
             except OSError:
-                pass
+                continue
+            if is_owner(status.st_uid):
+                found.append(entry)
+            elif stat.S_ISDIR(status.st_mode) and depth > 0 and (status.st_dev, status.st_ino) not in seen:
+                seen.add((status.st_dev, status.st_ino))
+                # Into a folder anyone may write to; or one that may hold one (its owner's).
+                if status.st_mode & stat.S_IWOTH or status.st_mode & stat.S_IXOTH:
+                    look(entry.path, depth - 1)
+
+    for shared in SHARED_FOLDERS:
+        look(shared, SHARED_DEPTH)
+    return found
 
 
 @dataclass

@@ -146,13 +146,14 @@ def leftovers():
                     found.append(f"process {entry.name} of user {uid}")
         except (OSError, AttributeError):
             pass
+    # Where the cells could write: the shared folders and the world-writable folders below them.
+    for entry in cell.files_of(set(), is_owner=lambda owner: first <= owner < last and not in_use(owner)):
+        found.append(f"{entry.path} of user {entry.stat(follow_symlinks=False).st_uid}")
     for shared in cell.SHARED_FOLDERS:
         try:
             for entry in os.scandir(shared):
-                owner = entry.stat(follow_symlinks=False).st_uid
-                if (first <= owner < last and not in_use(owner)) or "billiard-stash" in entry.name \
-                        or "billiard-hog" in entry.name:
-                    found.append(f"{entry.path} of user {owner}")
+                if "billiard-stash" in entry.name or "billiard-hog" in entry.name:
+                    found.append(f"{entry.path} of user {entry.stat(follow_symlinks=False).st_uid}")
         except OSError:
             pass
     return found

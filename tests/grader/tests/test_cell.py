@@ -190,6 +190,26 @@ class UserIds(unittest.TestCase):
         finally:
             process.kill()
 
+    def test_clearing_a_user_removes_its_files_from_open_folders_below_the_shared_ones(self):
+        # Another system's root unpacked in /tmp (a chroot's: its /tmp, /var/tmp, /run/lock) holds
+        # folders anyone may write to, and a cell without Landlock wrote there once, past the
+        # grading's end. Its file and folder go with the user; root's file and folder stay.
+        root = Path(tempfile.mkdtemp(prefix="billiard-cell-root-", dir="/tmp"))
+        try:
+            os.chmod(root, 0o755)
+            open_folder = root / "var" / "tmp"
+            open_folder.mkdir(parents=True)
+            os.chmod(open_folder, 0o1777)
+            (open_folder / "roots").write_text("root's\n")
+            script = f"echo x > {open_folder}/left && mkdir {open_folder}/folder && echo y > {open_folder}/folder/f"
+            subprocess.run([CELL, "--no-landlock", "--user", str(CELL_USER), "--", "/bin/sh", "-c", script],
+                           check=True, timeout=60)
+            self.assertEqual({entry.name for entry in cell.files_of({CELL_USER})} & {"left", "folder"}, {"left", "folder"})
+            cell.clear_user(CELL, CELL_USER)
+            self.assertEqual(sorted(entry.name for entry in open_folder.iterdir()), ["roots"])
+        finally:
+            shutil.rmtree(root, ignore_errors=True)
+
 
 @unittest.skipUnless(ROOT, "as root only: the pool of user ids")
 class UserIdPool(unittest.TestCase):
